@@ -1,0 +1,108 @@
+#pragma once
+/// \file The cdkit methods: one MeshModel<BV> per bounding-volume type in `CdkitBvs`.
+/// Adding a BV type to the benchmark is one entry in that list.
+
+#include "bench.hpp"
+
+#include "cdkit/bv/aabb.hpp"
+#include "cdkit/bv/obb.hpp"
+#include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/query.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <tuple>
+#include <type_traits>
+
+namespace cdbench {
+
+/// Every cdkit BV type measured, in output order. The first is the reference for correctness counts and
+/// the model that P2's bisection uses.
+using CdkitBvs = std::tuple<cdkit::Obb<double>, cdkit::Aabb<double>, cdkit::Obb<float>, cdkit::Aabb<float>>;
+
+/// "cdkit_obb_d" for Obb<double>: the BV's own name, lower case, and the scalar's initial.
+template <class BV> [[nodiscard]] std::string cdkit_method_name() {
+    std::string n = "cdkit_";
+    for (const char* c = BV::name; *c; ++c) n += char(std::tolower(static_cast<unsigned char>(*c)));
+    n += std::is_same_v<typename BV::Scalar, float> ? "_f" : "_d";
+    return n;
+}
+
+template <class BV> class CdkitMethod final : public Method {
+public:
+    using S = typename BV::Scalar;
+
+    CdkitMethod(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options)
+        : name_(cdkit_method_name<BV>()), model_(build(std::move(mesh), options)) {}
+
+    const std::string& name() const noexcept override { return name_; }
+    const std::string& family() const noexcept override { return family_; }
+    const BuildInfo& build_info() const noexcept override { return info_; }
+
+    Outcome probe(const Pose& pose, Mode mode) override {
+        const auto r = cdkit::collide(model_, cdkit::Transform<S>::identity(), model_, cast(pose), request(mode));
+        return {r.colliding, r.contacts.size(), r.stats.bv_tests, r.stats.primitive_tests};
+    }
+
+    Timed time(const Pose& pose, Mode mode, std::size_t reps) override {
+        // The pose is converted before the clock starts: a float user holds float poses.
+        const cdkit::Transform<S> pa = cdkit::Transform<S>::identity();
+        const cdkit::Transform<S> pb = cast(pose);
+        const cdkit::CollisionRequest req = request(mode);
+        return time_batch(reps, [&] {
+            const auto r = cdkit::collide(model_, pa, model_, pb, req);
+            return std::pair<bool, std::size_t>(r.colliding, r.contacts.size());
+        });
+    }
+
+private:
+    static cdkit::CollisionRequest request(Mode mode) noexcept {
+        cdkit::CollisionRequest r;
+        r.mode = mode == Mode::first ? cdkit::ContactMode::first : cdkit::ContactMode::all;
+        return r;
+    }
+    static cdkit::Transform<S> cast(const Pose& p) { return cdkit::Transform<double>(p.R, p.t).template cast<S>(); }
+
+    cdkit::MeshModel<BV> build(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options) {
+        const auto t0 = Clock::now();
+        cdkit::MeshModel<BV> m(mesh, options);
+        info_.build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        info_.tree_bytes = m.memory_bytes();
+        info_.tree_bytes_note = "MeshModel::memory_bytes()";
+        info_.mesh_bytes = m.mesh().memory_bytes();
+        info_.nodes = m.bvh().nodes().size();
+        info_.single_precision = std::is_same_v<S, float>;
+        return m;
+    }
+
+    std::string name_;
+    std::string family_ = "cdkit";
+    BuildInfo info_;  // filled by build(), which runs in model_'s initialiser: declared before model_
+    cdkit::MeshModel<BV> model_;
+};
+
+/// Names of all cdkit methods, in CdkitBvs order.
+[[nodiscard]] inline std::vector<std::string> cdkit_method_names() {
+    return std::apply([](auto... bv) { return std::vector<std::string>{cdkit_method_name<decltype(bv)>()...}; },
+                      CdkitBvs{});
+}
+
+/// Builds the cdkit methods for which `wanted(name)` is true, on the (already normalised) double mesh;
+/// float methods get a float copy, shared among them.
+[[nodiscard]] inline std::vector<std::unique_ptr<Method>> make_cdkit_methods(
+    const cdkit::TriangleMesh<double>& mesh, const cdkit::BuildOptions& options,
+    const std::function<bool(const std::string&)>& wanted) {
+    auto md = std::make_shared<const cdkit::TriangleMesh<double>>(mesh);
+    auto mf = std::make_shared<const cdkit::TriangleMesh<float>>(mesh.cast<float>());
+    std::vector<std::unique_ptr<Method>> out;
+    auto add = [&]<class BV>(BV*) {
+        if (!wanted(cdkit_method_name<BV>())) return;
+        if constexpr (std::is_same_v<typename BV::Scalar, float>) out.push_back(std::make_unique<CdkitMethod<BV>>(mf, options));
+        else out.push_back(std::make_unique<CdkitMethod<BV>>(md, options));
+    };
+    std::apply([&](auto... bv) { (add(static_cast<decltype(bv)*>(nullptr)), ...); }, CdkitBvs{});
+    return out;
+}
+
+}  // namespace cdbench

@@ -1,0 +1,138 @@
+#pragma once
+/// \file Oriented bounding box fitted by principal component analysis of the triangles (continuous, area
+/// weighted covariance: Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996), overlap by the 15-axis
+/// separating-axis test.
+
+#include "cdkit/bv/detail/separating_axis.hpp"
+#include "cdkit/bv/fit.hpp"
+
+#include <Eigen/Eigenvalues>
+
+namespace cdkit {
+
+template <class S> struct Obb {
+    using Scalar = S;
+    static constexpr const char* name = "OBB";
+
+    Mat3<S> axes = Mat3<S>::Identity();  ///< columns: the box's unit axes, a right-handed rotation
+    Vec3<S> center = Vec3<S>::Zero();
+    Vec3<S> half = Vec3<S>::Constant(S(-1));  ///< half extents along the axes; negative = empty
+
+    [[nodiscard]] static Obb empty() noexcept { return {}; }
+    [[nodiscard]] bool is_empty() const noexcept { return (half.array() < S(0)).any(); }
+    [[nodiscard]] bool is_valid() const noexcept {
+        return axes.allFinite() && center.allFinite() && half.allFinite() && (half.array() >= S(0)).all();
+    }
+    [[nodiscard]] S volume() const noexcept { return is_empty() ? S(0) : S(8) * half.prod(); }
+    [[nodiscard]] S size() const noexcept { return half.x() + half.y() + half.z(); }
+    [[nodiscard]] Vec3<S> split_axis() const noexcept {
+        int k;
+        half.maxCoeff(&k);
+        return axes.col(k);
+    }
+    [[nodiscard]] bool contains(const Vec3<S>& p, S tol = S(0)) const noexcept {
+        return ((axes.transpose() * (p - center)).cwiseAbs().array() <= half.array() + tol).all();
+    }
+
+    /// PCA frame of the triangles (area-weighted second moments; vertex moments when all have zero area),
+    /// then the tight box in that frame, padded conservatively.
+    [[nodiscard]] static Obb fit(const TriangleMesh<S>& mesh, TriangleRange tris) noexcept {
+        if (tris.empty()) return empty();
+        // Moments in double: the covariance of a float mesh loses too much in float.
+        using D = double;
+        Eigen::Matrix<D, 3, 3> second = Eigen::Matrix<D, 3, 3>::Zero();
+        Eigen::Matrix<D, 3, 1> first = Eigen::Matrix<D, 3, 1>::Zero();
+        D area_sum = 0;
+        // Shift by one vertex so the moments of far-away meshes do not cancel catastrophically.
+        const Eigen::Matrix<D, 3, 1> origin = mesh.vertices[mesh.triangles[tris[0]][0]].template cast<D>();
+        for (Index t : tris) {
+            const auto& tri = mesh.triangles[t];
+            const Eigen::Matrix<D, 3, 1> p = mesh.vertices[tri[0]].template cast<D>() - origin;
+            const Eigen::Matrix<D, 3, 1> q = mesh.vertices[tri[1]].template cast<D>() - origin;
+            const Eigen::Matrix<D, 3, 1> r = mesh.vertices[tri[2]].template cast<D>() - origin;
+            const D area = 0.5 * (q - p).cross(r - p).norm();
+            const Eigen::Matrix<D, 3, 1> m = (p + q + r) / 3.0;
+            // ∫ x xᵀ over the triangle / area = (9 m mᵀ + p pᵀ + q qᵀ + r rᵀ) / 12.
+            second += (area / 12.0) * (9.0 * m * m.transpose() + p * p.transpose() + q * q.transpose() +
+                                        r * r.transpose());
+            first += area * m;
+            area_sum += area;
+        }
+        Eigen::Matrix<D, 3, 3> cov;
+        if (area_sum > 0) {
+            const Eigen::Matrix<D, 3, 1> mean = first / area_sum;
+            cov = second / area_sum - mean * mean.transpose();
+        } else {  // all triangles degenerate: plain vertex covariance
+            Eigen::Matrix<D, 3, 1> mean = Eigen::Matrix<D, 3, 1>::Zero();
+            std::size_t n = 0;
+            for (Index t : tris)
+                for (Index v : mesh.triangles[t]) mean += mesh.vertices[v].template cast<D>() - origin, ++n;
+            mean /= D(n);
+            cov.setZero();
+            for (Index t : tris)
+                for (Index v : mesh.triangles[t]) {
+                    const Eigen::Matrix<D, 3, 1> d = mesh.vertices[v].template cast<D>() - origin - mean;
+                    cov += d * d.transpose();
+                }
+        }
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix<D, 3, 3>> eig;
+        eig.computeDirect(cov);
+        Eigen::Matrix<D, 3, 3> frame = eig.eigenvectors();
+        if (!frame.allFinite()) frame.setIdentity();
+        // Largest variance first; re-orthonormalise and make it right-handed.
+        Eigen::Matrix<D, 3, 1> u = frame.col(2).normalized();
+        Eigen::Matrix<D, 3, 1> v = (frame.col(1) - frame.col(1).dot(u) * u).normalized();
+        if (!u.allFinite() || !v.allFinite()) {
+            u = Eigen::Matrix<D, 3, 1>::UnitX();
+            v = Eigen::Matrix<D, 3, 1>::UnitY();
+        }
+        Obb box;
+        box.axes.col(0) = u.template cast<S>();
+        box.axes.col(1) = v.template cast<S>();
+        box.axes.col(2) = u.cross(v).template cast<S>();
+        return fit_in_frame(mesh, tris, box.axes);
+    }
+
+    /// The tight box with the given axes (columns, orthonormal) around the triangles' vertices.
+    [[nodiscard]] static Obb fit_in_frame(const TriangleMesh<S>& mesh, TriangleRange tris, const Mat3<S>& axes) noexcept {
+        Vec3<S> lo = Vec3<S>::Constant(std::numeric_limits<S>::infinity());
+        Vec3<S> hi = -lo;
+        S magnitude = 0;
+        const Mat3<S> at = axes.transpose();
+        for (Index t : tris)
+            for (Index v : mesh.triangles[t]) {
+                const Vec3<S> p = at * mesh.vertices[v];
+                lo = lo.cwiseMin(p);
+                hi = hi.cwiseMax(p);
+                magnitude = std::max(magnitude, mesh.vertices[v].cwiseAbs().maxCoeff());
+            }
+        Obb box;
+        box.axes = axes;
+        if (tris.empty()) return box;
+        // Projections onto slightly non-orthonormal rounded axes: pad by the magnitude, not the extent.
+        const S pad = S(4) * detail::fit_padding(magnitude);
+        box.half = (hi - lo) * S(0.5) + Vec3<S>::Constant(pad);
+        box.center = axes * ((lo + hi) * S(0.5));
+        return box;
+    }
+
+    struct Relative {
+        Mat3<S> R;
+        Vec3<S> t;
+        S slack;
+    };
+    [[nodiscard]] static Relative relative(const Transform<S>& b_to_a) noexcept {
+        return {b_to_a.R, b_to_a.t, detail::translation_slack(b_to_a.t)};
+    }
+};
+
+/// Overlap of box `a` (in A's frame) with box `b` (in B's frame), `rel` taking B's frame to A's.
+template <class S>
+[[nodiscard]] inline bool overlap(const Obb<S>& a, const Obb<S>& b, const typename Obb<S>::Relative& rel) noexcept {
+    const Mat3<S> at = a.axes.transpose();
+    const Mat3<S> Rb = at * (rel.R * b.axes);
+    const Vec3<S> T = at * (rel.R * b.center + rel.t - a.center);
+    return !detail::boxes_disjoint(a.half, b.half, Rb, detail::abs_with_slack(Rb), T, rel.slack);
+}
+
+}  // namespace cdkit

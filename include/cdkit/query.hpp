@@ -1,0 +1,135 @@
+#pragma once
+/// \file collide(): mesh–mesh collision on BVHs, and collide_brute_force(), the all-pairs reference.
+///
+/// Both work in A's model frame: B's triangles are carried there by the relative transform
+/// pose_a⁻¹·pose_b, computed once per query, and no mesh is copied or re-transformed as a whole.
+/// Queries are const and thread-safe: any number of threads may query the same models at once.
+
+#include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/bvh/traverse.hpp"
+#include "cdkit/narrowphase/triangle.hpp"
+
+#include <limits>
+#include <vector>
+
+namespace cdkit {
+
+enum class ContactMode {
+    first,  ///< stop at the first intersecting triangle pair (a witness)
+    all,    ///< every intersecting triangle pair with its intersection segment
+};
+
+struct CollisionRequest {
+    ContactMode mode = ContactMode::first;
+    /// In ContactMode::all, stop after this many contacts (the result says it was truncated).
+    std::size_t max_contacts = std::numeric_limits<std::size_t>::max();
+};
+
+/// One intersecting triangle pair. Points are in the world frame.
+template <class S> struct Contact {
+    Index triangle_a = 0;      ///< index into model A's mesh.triangles
+    Index triangle_b = 0;
+    Vec3<S> point;             ///< a witness point on both triangles (the segment's midpoint)
+    Vec3<S> segment[2];        ///< the intersection segment (equal end points for a single touching point)
+    bool coplanar = false;     ///< the triangles are coplanar; the segment spans part of the overlap region
+};
+
+struct CollisionStats : TraversalStats {};
+
+template <class S> struct CollisionResult {
+    bool colliding = false;
+    bool truncated = false;  ///< ContactMode::all stopped at max_contacts
+    std::vector<Contact<S>> contacts;
+    CollisionStats stats;
+};
+
+namespace detail {
+/// B's vertex in A's frame. Brute force and the BVH query share this one function so that they see the
+/// same rounded points, and the BV fit's padding covers its rounding.
+template <class S> [[nodiscard]] inline Vec3<S> to_frame_a(const Transform<S>& b_to_a, const Vec3<S>& v) noexcept {
+    return b_to_a.R * v + b_to_a.t;
+}
+
+/// Tests triangle ta of A against tb of B (already in A's frame) and records a contact on a hit.
+template <class S>
+inline bool test_triangle_pair(const TriangleMesh<S>& ma, Index ta, const TriangleMesh<S>& mb, Index tb,
+                               const Transform<S>& b_to_a, const Transform<S>& pose_a,
+                               CollisionResult<S>& out) noexcept {
+    const auto& A = ma.triangles[ta];
+    const auto& B = mb.triangles[tb];
+    const Vec3<S> q0 = to_frame_a(b_to_a, mb.vertices[B[0]]);
+    const Vec3<S> q1 = to_frame_a(b_to_a, mb.vertices[B[1]]);
+    const Vec3<S> q2 = to_frame_a(b_to_a, mb.vertices[B[2]]);
+    ++out.stats.primitive_tests;
+    const Vec3<S>& p0 = ma.vertices[A[0]];
+    const Vec3<S>& p1 = ma.vertices[A[1]];
+    const Vec3<S>& p2 = ma.vertices[A[2]];
+    if (!triangles_intersect(p0, p1, p2, q0, q1, q2)) return false;
+    const TriangleIntersection<S> x = triangle_intersection(p0, p1, p2, q0, q1, q2);
+    Contact<S> c;
+    c.triangle_a = ta;
+    c.triangle_b = tb;
+    c.segment[0] = pose_a * x.a;
+    c.segment[1] = pose_a * x.b;
+    c.point = (c.segment[0] + c.segment[1]) * S(0.5);
+    c.coplanar = x.coplanar;
+    out.colliding = true;
+    out.contacts.push_back(c);
+    return true;
+}
+
+/// After a hit: should the query go on?
+template <class S> [[nodiscard]] inline bool keep_going(const CollisionRequest& req, CollisionResult<S>& out) noexcept {
+    if (req.mode == ContactMode::first) return false;
+    if (out.contacts.size() >= req.max_contacts) {
+        out.truncated = true;
+        return false;
+    }
+    return true;
+}
+}  // namespace detail
+
+/// Collision between two mesh models at the given world poses (model frame → world). Reports whether any
+/// triangle of A intersects any triangle of B (touching counts), with one witness (ContactMode::first) or
+/// all intersecting pairs (ContactMode::all, in traversal order). Contacts are in the world frame.
+template <class BV>
+[[nodiscard]] CollisionResult<typename BV::Scalar> collide(const MeshModel<BV>& a, const Transform<typename BV::Scalar>& pose_a,
+                                                           const MeshModel<BV>& b, const Transform<typename BV::Scalar>& pose_b,
+                                                           const CollisionRequest& request = {}) {
+    using S = typename BV::Scalar;
+    CollisionResult<S> out;
+    const Transform<S> b_to_a = pose_a.inverse() * pose_b;
+    const auto rel = BV::relative(b_to_a);
+    const auto& ma = a.mesh();
+    const auto& mb = b.mesh();
+    const auto& order_a = a.bvh().triangle_order();
+    const auto& order_b = b.bvh().triangle_order();
+    traverse_overlapping_leaves(
+        a.bvh(), b.bvh(), rel,
+        [&](const BvhNode<BV>& x, const BvhNode<BV>& y) {
+            for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
+                for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
+                    if (detail::test_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, pose_a, out) &&
+                        !detail::keep_going(request, out))
+                        return false;
+            return true;
+        },
+        out.stats);
+    return out;
+}
+
+/// The reference: every triangle pair, in index order. O(n·m); for tests and small meshes.
+template <class S>
+[[nodiscard]] CollisionResult<S> collide_brute_force(const TriangleMesh<S>& a, const Transform<S>& pose_a,
+                                                     const TriangleMesh<S>& b, const Transform<S>& pose_b,
+                                                     const CollisionRequest& request = {}) {
+    CollisionResult<S> out;
+    const Transform<S> b_to_a = pose_a.inverse() * pose_b;
+    for (Index i = 0; i < a.triangles.size(); ++i)
+        for (Index j = 0; j < b.triangles.size(); ++j)
+            if (detail::test_triangle_pair(a, i, b, j, b_to_a, pose_a, out) && !detail::keep_going(request, out))
+                return out;
+    return out;
+}
+
+}  // namespace cdkit
