@@ -54,8 +54,9 @@ namespace cdkit {
 
 /// How a predicate (and the queries built on predicates) decides a sign.
 enum class PredicateMode {
-    /// Floating-point evaluation in double with a certified error bound; exact expansion arithmetic when
-    /// the bound cannot decide. Always the exact sign (within the range in this file's header).
+    /// Floating-point evaluation in double with a certified error bound; slower exact stages (ending in
+    /// expansion arithmetic) when the bound cannot decide. Always the exact sign (within the range in this
+    /// file's header).
     filtered_exact,
     /// The same determinant evaluated once in the input's own scalar type, its sign taken as is: fast but
     /// may be wrong (or zero) for nearly degenerate input. Exists to measure what exactness costs.
