@@ -69,7 +69,7 @@ template <class S> void validate(const TriangleMesh<S>& mesh) {
 struct MeshStats {
     std::size_t vertices = 0;
     std::size_t triangles = 0;
-    std::size_t degenerate_triangles = 0;  ///< a repeated vertex index, or zero area in exact arithmetic terms (cross product == 0)
+    std::size_t degenerate_triangles = 0;  ///< a repeated vertex index, or edge vectors whose cross product evaluates to zero
     std::size_t duplicate_triangles = 0;   ///< same vertex set as an earlier triangle (any order)
     std::size_t edges = 0;                 ///< distinct undirected edges
     std::size_t boundary_edges = 0;        ///< used by exactly one triangle
