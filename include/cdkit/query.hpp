@@ -37,6 +37,7 @@ template <class S> struct Contact {
 struct CollisionStats : TraversalStats {};
 
 template <class S> struct CollisionResult {
+    QueryStatus status = QueryStatus::ok;  ///< invalid_pose: a pose was not a rigid motion; nothing was tested
     bool colliding = false;
     bool truncated = false;  ///< ContactMode::all stopped at max_contacts
     std::vector<Contact<S>> contacts;
@@ -92,12 +93,17 @@ template <class S> [[nodiscard]] inline bool keep_going(const CollisionRequest& 
 /// Collision between two mesh models at the given world poses (model frame → world). Reports whether any
 /// triangle of A intersects any triangle of B (touching counts), with one witness (ContactMode::first) or
 /// all intersecting pairs (ContactMode::all, in traversal order). Contacts are in the world frame.
+/// Poses that are not rigid motions (see pose_is_usable) give status invalid_pose and no answer.
 template <class BV>
 [[nodiscard]] CollisionResult<typename BV::Scalar> collide(const MeshModel<BV>& a, const Transform<typename BV::Scalar>& pose_a,
                                                            const MeshModel<BV>& b, const Transform<typename BV::Scalar>& pose_b,
                                                            const CollisionRequest& request = {}) {
     using S = typename BV::Scalar;
     CollisionResult<S> out;
+    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
+        out.status = QueryStatus::invalid_pose;
+        return out;
+    }
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
     const auto rel = BV::relative(b_to_a);
     const auto& ma = a.mesh();
@@ -124,6 +130,10 @@ template <class S>
                                                      const TriangleMesh<S>& b, const Transform<S>& pose_b,
                                                      const CollisionRequest& request = {}) {
     CollisionResult<S> out;
+    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
+        out.status = QueryStatus::invalid_pose;
+        return out;
+    }
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
     for (Index i = 0; i < a.triangles.size(); ++i)
         for (Index j = 0; j < b.triangles.size(); ++j)

@@ -173,6 +173,7 @@ void precheck_ply(const std::string& source, std::string_view d) {
     std::string format;
     std::size_t pos = 0;
     bool ended = false;
+    bool opaque = false;  // a property this check cannot size: leave the body to assimp
     while (pos < d.size() && !ended) {
         std::size_t eol = d.find('\n', pos);
         if (eol == std::string_view::npos) eol = d.size();
@@ -192,18 +193,21 @@ void precheck_ply(const std::string& source, std::string_view d) {
                 p.count_size = ply_type_size(t[2]);
                 p.count_signed = t[2].front() != 'u';
                 p.size = ply_type_size(t[3]);
-                if (!p.count_size || !p.size) return;
+                if (!p.count_size || !p.size) opaque = true;
             } else if (t.size() >= 3) {
-                if (!(p.size = ply_type_size(t[1]))) return;
+                if (!(p.size = ply_type_size(t[1]))) opaque = true;
             } else {
-                return;
+                opaque = true;
             }
             elements.back().props.push_back(p);
         } else if (t[0] == "end_header") {
             ended = true;
         }
     }
-    if (!ended) return;
+    // assimp 5.2.5's PLY reader never returns on a header without end_header (found by fuzz_load_mesh,
+    // fuzz/regressions/fuzz_load_mesh-assimp-ply-hang.bin); every PLY file needs one.
+    if (!ended) throw Error(source, "", "PLY header has no 'end_header' line (truncated, or not a PLY file)");
+    if (opaque) return;
     const std::string_view body = d.substr(std::min(pos, d.size()));
     const auto ends_early = [&](const Element& e, std::uint64_t k, const std::string& what) {
         return Error(source, e.name + " " + std::to_string(k),
@@ -230,6 +234,37 @@ void precheck_ply(const std::string& source, std::string_view d) {
             throw Error(source, "",
                         "the body holds " + std::to_string(lines) + " lines but the header declares " +
                             std::to_string(before) + " elements (the header lies about counts)");
+        // Every list length that is present must be a positive integer: assimp 5.2.5 aborts
+        // (ai_assert in TriangulateProcess) on a face of length 0 or a non-numeric length (found by
+        // fuzz_load_mesh, fuzz/regressions/fuzz_load_mesh-assimp-ply-triangulate-abort.bin).
+        std::size_t i = 0;
+        for (const Element& e : elements) {
+            for (std::uint64_t k = 0; k < e.count;) {
+                std::size_t eol = body.find('\n', i);
+                if (eol == std::string_view::npos) eol = body.size();
+                const auto t = tokens(body.substr(i, eol - i));
+                i = eol + 1;
+                if (t.empty()) continue;
+                // Only what makes assimp abort is rejected: a short line is left to assimp (Blender writes
+                // an empty vertex list property, assimp's own issue623.ply).
+                std::size_t at_token = 0;
+                for (const Prop& p : e.props) {
+                    if (at_token >= t.size()) break;
+                    if (p.count_size == 0) {
+                        ++at_token;
+                        continue;
+                    }
+                    std::uint64_t n = 0;
+                    const std::string_view c = t[at_token];
+                    const auto r = std::from_chars(c.data(), c.data() + c.size(), n);
+                    if (r.ec != std::errc() || r.ptr != c.data() + c.size() || n == 0)
+                        throw Error(source, e.name + " " + std::to_string(k),
+                                    "list length '" + std::string(c) + "' is not a positive integer");
+                    at_token += 1 + n;
+                }
+                ++k;
+            }
+        }
         return;
     }
     const bool little = format == "binary_little_endian";
@@ -392,9 +427,29 @@ unsigned int import_flags(const LoadOptions& options) {
     // drops unreferenced ones), which moves geometry — on the 871k-triangle Stanford dragon it merges
     // distinct vertices 6e-8 apart and creates two degenerate triangles. join_identical_vertices() below
     // joins bit-identical positions only.
+    // These run in a second step (ApplyPostProcessing), after check_faces() has rejected faces without
+    // corners: on those, assimp's post-processing steps assert or crash (fuzz/regressions/).
     unsigned int flags = aiProcess_SortByPType | aiProcess_ValidateDataStructure;
     if (options.triangulate) flags |= aiProcess_Triangulate;
     return flags;
+}
+
+/// Rejects faces that assimp's post-processing cannot handle: no corners, or corners out of range.
+void check_faces(const aiScene& scene, const std::string& source) {
+    for (unsigned int mi = 0; mi < scene.mNumMeshes; ++mi) {
+        const aiMesh* m = scene.mMeshes[mi];
+        if (!m || !m->mFaces) continue;
+        for (unsigned int f = 0; f < m->mNumFaces; ++f) {
+            const aiFace& face = m->mFaces[f];
+            const std::string where = "mesh " + std::to_string(mi) + " face " + std::to_string(f);
+            if (face.mNumIndices == 0 || !face.mIndices) throw Error(source, where, "face has no corners");
+            for (unsigned int k = 0; k < face.mNumIndices; ++k)
+                if (face.mIndices[k] >= m->mNumVertices)
+                    throw Error(source, where,
+                                "vertex index " + std::to_string(face.mIndices[k]) + " out of range (" +
+                                    std::to_string(m->mNumVertices) + " vertices)");
+        }
+    }
 }
 
 void configure(Assimp::Importer& importer) {
@@ -538,12 +593,15 @@ TriangleMesh<double> import_scene(const std::string& source, const LoadOptions& 
     try {
         Assimp::Importer importer;
         configure(importer);
-        const aiScene* scene = read(importer, import_flags(options));
+        const aiScene* scene = read(importer, 0u);
         if (!scene) {
             std::string why = importer.GetErrorString();
             if (why.empty()) why = "assimp could not read it (unknown or unsupported format)";
             throw Error(source, "", "import failed: " + why);
         }
+        check_faces(*scene, source);
+        scene = importer.ApplyPostProcessing(import_flags(options));
+        if (!scene) throw Error(source, "", std::string("import failed: ") + importer.GetErrorString());
         collect(*scene, mesh);
     } catch (const Error&) {
         throw;

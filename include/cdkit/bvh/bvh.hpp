@@ -23,6 +23,14 @@ template <class BV> struct BvhNode {
 enum class SplitStrategy {
     median,  ///< object median of the centroids along the BV's longest axis (balanced: depth ⌈log2 n⌉)
     mean,    ///< the centroids' mean along that axis, as FCL and RAPID do (falls back to median if one side is empty)
+    /// Binned surface area heuristic (16 bins per axis, all three axes; MacDonald, Booth, "Heuristics for ray
+    /// tracing using space subdivision", 1990; binning after Wald, "On fast construction of SAH-based BVHs",
+    /// 2007): minimises area(L)·n_L + area(R)·n_R of the halves' triangle bounding boxes. Meant for Aabb and
+    /// Kdop trees; any BV accepts it. Falls back to the median when all centroids share a bin.
+    sah,
+    /// The centroids' principal axis, then the split position along it that minimises vol(L) + vol(R) of the
+    /// halves' boxes in the principal frame (a full sweep over the sorted centroids). Meant for Obb trees.
+    pca_volume,
 };
 
 struct BuildOptions {
@@ -63,6 +71,10 @@ public:
         s.memory_bytes = memory_bytes();
         return s;
     }
+
+    /// Replaces node i's bounding volume, leaving the topology as it is. For refit (bvh/refit.hpp): the
+    /// caller keeps the containment invariant (validate() checks it).
+    void set_volume(std::size_t i, const BV& bv) noexcept { nodes_[i].bv = bv; }
 
     /// Checks the tree's invariants against its mesh and throws cdkit::Error naming the first broken one:
     /// child indices in range, every triangle in exactly one leaf, and every vertex of a leaf's triangles

@@ -2,6 +2,7 @@
 /// \file MeshModel<BV>: a triangle mesh (shared, never copied by queries) with its BVH.
 
 #include "cdkit/bvh/build.hpp"
+#include "cdkit/bvh/refit.hpp"
 
 #include <memory>
 
@@ -14,7 +15,8 @@ public:
 
     /// Validates the mesh (throws cdkit::Error naming mesh->source on bad data) and builds the tree.
     explicit MeshModel(std::shared_ptr<const TriangleMesh<Scalar>> mesh, const BuildOptions& options = {})
-        : mesh_(checked(std::move(mesh))), bvh_(build_bvh<BV>(*mesh_, options)) {}
+        : mesh_(checked(std::move(mesh))), bvh_(build_bvh<BV>(*mesh_, options)), options_(options),
+          built_ratio_(volume_ratio(bvh_, *mesh_)) {}
     explicit MeshModel(TriangleMesh<Scalar> mesh, const BuildOptions& options = {})
         : MeshModel(std::make_shared<const TriangleMesh<Scalar>>(std::move(mesh)), options) {}
 
@@ -26,6 +28,37 @@ public:
     /// Checks the tree against the mesh; throws cdkit::Error on a broken invariant.
     void validate() const { bvh_.validate(*mesh_); }
 
+    /// Deformation: takes `moved`, the same mesh with moved vertices (same vertex count, same triangles in
+    /// the same order), and refits the tree to it in O(n) (see bvh/refit.hpp for how loose each BV gets).
+    /// Throws cdkit::Error naming moved->source when the topology differs or a vertex is not finite; the
+    /// model is unchanged then. Not thread-safe against concurrent queries on this model.
+    void refit(std::shared_ptr<const TriangleMesh<Scalar>> moved) {
+        if (!moved) throw Error("<mesh>", "", "refit: null mesh");
+        if (moved->vertices.size() != mesh_->vertices.size())
+            throw Error(moved->source, "", "refit: vertex count " + std::to_string(moved->vertices.size()) +
+                                               " differs from the model's " + std::to_string(mesh_->vertices.size()));
+        if (moved->triangles.size() != mesh_->triangles.size())
+            throw Error(moved->source, "", "refit: triangle count differs from the model's");
+        for (std::size_t i = 0; i < moved->triangles.size(); ++i)
+            if (moved->triangles[i] != mesh_->triangles[i])
+                throw Error(moved->source, "triangle " + std::to_string(i), "refit: differs from the model's (topology changed)");
+        cdkit::refit(bvh_, *moved);  // validates the coordinates before touching the tree
+        mesh_ = std::move(moved);
+    }
+    /// Rebuilds the tree from scratch on the current mesh (with the options it was built with).
+    void rebuild() {
+        bvh_ = build_bvh<BV>(*mesh_, options_);
+        built_ratio_ = volume_ratio(bvh_, *mesh_);
+    }
+    /// How much refits have loosened the tree: volume_ratio() now over volume_ratio() after the last build
+    /// (1 right after a build; scale invariant). O(n) plus one fit of the whole mesh.
+    [[nodiscard]] double degradation() const {
+        return built_ratio_ > 0 ? volume_ratio(bvh_, *mesh_) / built_ratio_ : 1.0;
+    }
+    /// True when degradation() exceeds `threshold`: the refitted tree's volumes then overlap so much more than
+    /// a fresh tree's that a rebuild (O(n log n)) is likely to pay off within a few queries.
+    [[nodiscard]] bool should_rebuild(double threshold = 1.5) const { return degradation() > threshold; }
+
 private:
     static std::shared_ptr<const TriangleMesh<Scalar>> checked(std::shared_ptr<const TriangleMesh<Scalar>> m) {
         if (!m) throw Error("<mesh>", "", "null mesh");
@@ -34,6 +67,8 @@ private:
     }
     std::shared_ptr<const TriangleMesh<Scalar>> mesh_;
     Bvh<BV> bvh_;
+    BuildOptions options_;
+    double built_ratio_ = 1;
 };
 
 }  // namespace cdkit

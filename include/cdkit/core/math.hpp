@@ -53,4 +53,19 @@ template <class S> struct Transform {
     }
 };
 
+/// Outcome of a query's input check. Queries refuse poses that are not rigid motions (NaN/Inf, scale,
+/// shear, reflection) instead of returning an answer that looks valid but is not: the BV tests assume a
+/// rotation, and NaN would make every test false ("no collision").
+enum class QueryStatus {
+    ok,
+    invalid_pose,  ///< a pose failed pose_is_usable(); the result holds no answer
+};
+
+/// The gate the queries apply: finite, and orthonormal with det +1 to within sqrt(eps) — loose enough for
+/// rotations accumulated over a long simulation without re-orthonormalising, tight enough to refuse
+/// scales, shears, reflections and garbage.
+template <class S> [[nodiscard]] bool pose_is_usable(const Transform<S>& pose) noexcept {
+    return pose.is_valid(std::sqrt(std::numeric_limits<S>::epsilon()));
+}
+
 }  // namespace cdkit

@@ -1,0 +1,267 @@
+// P3 convex pairs (BENCHMARKS.md): cdkit GJK (boolean, distance) and EPA against libccd (GJK, MPR,
+// GJK+EPA penetration) on the same shapes and poses, in one process, fixed seeds.
+// Usage: cdkit_bench_convex [configs_per_cell=100] [check_cases=1000000]
+// Prints per (shape family, distance class): median / p99 time per call, mean iterations, and the error
+// against a long-double reference (cdkit's own GJK/EPA instantiated in long double with tight tolerances),
+// then a checked counter: seeded cases whose double answer disagrees with the long-double reference.
+#include <cdkit/narrowphase/convex_polyhedron.hpp>
+#include <cdkit/narrowphase/convex_shapes.hpp>
+#include <cdkit/narrowphase/epa.hpp>
+
+#include "ccd_adapter.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace cdkit;
+using LD = long double;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+Mat3<double> random_rotation(std::mt19937_64& rng) {
+    std::normal_distribution<double> g;
+    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+    q.normalize();
+    return q.toRotationMatrix();
+}
+std::vector<Vec3<double>> cloud(std::mt19937_64& rng, int n, double r) {
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(0.5, 1.0);
+    std::vector<Vec3<double>> p;
+    for (int i = 0; i < n; ++i) p.push_back(Vec3<double>(g(rng), g(rng), g(rng)).normalized() * r * u(rng));
+    return p;
+}
+template <class T> std::vector<T> castv(const std::vector<Vec3<double>>& p) {
+    std::vector<T> o;
+    for (const auto& x : p) o.push_back(x.template cast<typename T::Scalar>());
+    return o;
+}
+
+struct Stats {
+    std::vector<double> t;
+    double it = 0, err = 0;
+    long n = 0;
+    void add(double ns, int iters, double e) { t.push_back(ns); it += iters; err = std::max(err, e); ++n; }
+    double pct(double q) {
+        if (t.empty()) return 0;
+        std::sort(t.begin(), t.end());
+        return t[std::min(t.size() - 1, std::size_t(q * double(t.size())))];
+    }
+};
+
+template <class F> double time_ns(F&& f, int reps) {
+    auto t0 = Clock::now();
+    for (int r = 0; r < reps; ++r) f();
+    return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / reps;
+}
+
+volatile double g_sink = 0;
+constexpr int reps = 16;  // calls per timed batch (one configuration)
+
+struct Row {
+    std::string family, cls;
+    Stats cd_bool, cd_dist, cd_epa, ccd_gjk, ccd_mpr, ccd_pen;
+};
+
+/// One family: `make(rng)` returns {shape<double>, shape<long double>} pairs; scale = size of the shapes.
+template <class Make> void run_family(const char* name, Make make, double scale, int configs, std::vector<Row>& rows,
+                                      std::mt19937_64& rng) {
+    const double targets[3][4] = {{5, 2.5, 1, 0.5}, {1e-1, 1e-2, 1e-3, 1e-4}, {-1e-1, -1e-2, -1e-3, -1e-4}};
+    const char* cls[3] = {"distant", "close", "overlapping"};
+    for (int c = 0; c < 3; ++c) {
+        Row row{name, cls[c], {}, {}, {}, {}, {}, {}};
+        for (int k = 0; k < configs; ++k) {
+            auto [a, al] = make(rng);
+            auto [b, bl] = make(rng);
+            Transform<double> pa(random_rotation(rng), Vec3<double>::Zero());
+            std::normal_distribution<double> g;
+            Transform<double> pb(random_rotation(rng), Vec3<double>(g(rng), g(rng), g(rng)).normalized() * 4 * scale);
+            GjkSettings<LD> tight;
+            tight.rel_tolerance = 1e-16L;
+            auto d0 = gjk_distance(al, pa.cast<LD>(), bl, pb.cast<LD>(), nullptr, tight);
+            double target = targets[c][k % 4] * scale;
+            pb.t += (target - double(d0.distance)) * d0.normal.template cast<double>();
+            const Transform<LD> pal = pa.cast<LD>(), pbl = pb.cast<LD>();
+            // Reference in long double.
+            EpaSettings<LD> es;
+            es.rel_tolerance = 1e-14L;
+            es.gjk = tight;
+            es.max_iterations = 150;
+            auto ref = penetration(al, pal, bl, pbl, es);
+            const bool ref_hit = ref.status == GjkStatus::intersecting ||
+                                 ((ref.status == GjkStatus::max_iterations || ref.status == GjkStatus::degenerate) &&
+                                  ref.depth > 0);
+            const double ref_val = double(ref_hit ? ref.depth : ref.distance);
+
+            GjkResult<double> rb, rd;
+            {
+                const double ns_ = time_ns([&] { rb = gjk_intersect(a, pa, b, pb); g_sink = g_sink + rb.distance; }, reps);
+                row.cd_bool.add(ns_,
+                            rb.iterations, (rb.colliding() != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
+            }
+            {
+                const double ns_ = time_ns([&] { rd = gjk_distance(a, pa, b, pb); g_sink = g_sink + rd.distance; }, reps);
+                row.cd_dist.add(ns_,
+                            rd.iterations, ref_hit ? 0 : std::abs(rd.distance - ref_val) / std::max(ref_val, 1e-12));
+            }
+            bench::CcdObject oa = bench::make_ccd_object(a, pa), ob = bench::make_ccd_object(b, pb);
+            ccd_t ccd = bench::make_ccd();
+            int hg = 0, hm = 0;
+            {
+                const double ns_ = time_ns([&] { hg = ccdGJKIntersect(&oa, &ob, &ccd); g_sink = g_sink + hg; }, reps);
+                row.ccd_gjk.add(ns_, 0,
+                            (bool(hg) != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
+            }
+            {
+                const double ns_ = time_ns([&] { hm = ccdMPRIntersect(&oa, &ob, &ccd); g_sink = g_sink + hm; }, reps);
+                row.ccd_mpr.add(ns_, 0,
+                            (bool(hm) != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
+            }
+            if (c == 2 && ref_hit) {
+                PenetrationResult<double> rp;
+                {
+                    const double ns_ = time_ns([&] { rp = penetration(a, pa, b, pb); g_sink = g_sink + rp.depth; }, reps);
+                    row.cd_epa.add(ns_,
+                               rp.epa_iterations, std::abs(rp.depth - ref_val) / std::max(ref_val, 1e-12));
+                }
+                ccd_real_t depth = 0;
+                ccd_vec3_t dir, pos;
+                int ok = 0;
+                {
+                    const double ns_ = time_ns([&] { ok = ccdGJKPenetration(&oa, &ob, &ccd, &depth, &dir, &pos); g_sink = g_sink + depth; }, reps);
+                    row.ccd_pen.add(ns_,
+                                0, ok == 0 ? std::abs(double(depth) - ref_val) / std::max(ref_val, 1e-12) : 1.0);
+                }
+            }
+        }
+        rows.push_back(std::move(row));
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int configs = argc > 1 ? std::atoi(argv[1]) : 100;
+    long checks = argc > 2 ? std::atol(argv[2]) : 1000000;
+    std::mt19937_64 rng(20261122);
+    std::vector<Row> rows;
+    std::uniform_real_distribution<double> u(0.5, 1.0);
+    auto ell = [&](std::mt19937_64& r) {
+        std::normal_distribution<double> g(0.1, 0.025);
+        Vec3<double> rad(std::abs(g(r)) + 0.01, std::abs(g(r)) + 0.01, std::abs(g(r)) + 0.01);
+        return std::pair{Ellipsoid<double>(rad), Ellipsoid<LD>(rad.cast<LD>())};
+    };
+    auto box = [&](std::mt19937_64& r) {
+        Vec3<double> h(0.1 * u(r), 0.1 * u(r), 0.1 * u(r));
+        return std::pair{Box<double>(h), Box<LD>(h.cast<LD>())};
+    };
+    auto cap = [&](std::mt19937_64& r) {
+        double a = 0.05 * u(r), b = 0.1 * u(r);
+        return std::pair{Capsule<double>(a, b), Capsule<LD>(a, b)};
+    };
+    auto cyl = [&](std::mt19937_64& r) {
+        double a = 0.1 * u(r), b = 0.1 * u(r);
+        return std::pair{Cylinder<double>(a, b), Cylinder<LD>(a, b)};
+    };
+    auto cone = [&](std::mt19937_64& r) {
+        double a = 0.1 * u(r), b = 0.1 * u(r);
+        return std::pair{Cone<double>(a, b), Cone<LD>(a, b)};
+    };
+    auto hull = [&](int n) {
+        return [n](std::mt19937_64& r) {
+            auto p = cloud(r, n, 0.1);
+            return std::pair{ConvexPolyhedron<double>(p), ConvexPolyhedron<LD>(castv<Vec3<LD>>(p))};
+        };
+    };
+    run_family("ellipsoid", ell, 0.1, configs, rows, rng);
+    run_family("box", box, 0.1, configs, rows, rng);
+    run_family("capsule", cap, 0.1, configs, rows, rng);
+    run_family("cylinder", cyl, 0.1, configs, rows, rng);
+    run_family("cone", cone, 0.1, configs, rows, rng);
+    run_family("hull100", hull(100), 0.1, configs, rows, rng);
+    run_family("hull1000", hull(1000), 0.1, configs, rows, rng);
+
+    std::printf("P3 convex pairs: %d configurations per cell, %d calls per timed batch; times in ns per call\n",
+                configs, reps);
+    std::printf("%-10s %-11s | %-26s | %-26s | %-26s | %-17s | %-17s | %-17s | bool ratio ccdGJK/cd, ccdMPR/cd; pen ratio\n",
+                "family", "class", "cd bool med/p99 it err", "cd dist med/p99 it relerr", "cd EPA med/p99 it relerr",
+                "ccd GJK med err", "ccd MPR med err", "ccd pen med relerr");
+    for (auto& r : rows) {
+        auto cell = [](Stats& s, bool with_it) {
+            char buf[96];
+            if (s.n == 0) std::snprintf(buf, sizeof buf, "%26s", "-");
+            else if (with_it)
+                std::snprintf(buf, sizeof buf, "%7.0f/%7.0f %4.1f %.1e", s.pct(0.5), s.pct(0.99), s.it / double(s.n), s.err);
+            else std::snprintf(buf, sizeof buf, "%7.0f %.1e", s.pct(0.5), s.err);
+            return std::string(buf);
+        };
+        double cb = r.cd_bool.pct(0.5);
+        std::printf("%-10s %-11s | %s | %s | %s | %17s | %17s | %17s | %5.2f %5.2f %5.2f\n", r.family.c_str(),
+                    r.cls.c_str(), cell(r.cd_bool, true).c_str(), cell(r.cd_dist, true).c_str(),
+                    cell(r.cd_epa, true).c_str(), cell(r.ccd_gjk, false).c_str(), cell(r.ccd_mpr, false).c_str(),
+                    cell(r.ccd_pen, false).c_str(), r.ccd_gjk.pct(0.5) / cb, r.ccd_mpr.pct(0.5) / cb,
+                    r.cd_epa.n ? r.ccd_pen.pct(0.5) / r.cd_epa.pct(0.5) : 0.0);
+    }
+    std::printf("(err for booleans: max over cells of a wrong answer where |reference| > 1e-6·scale, 1 = some wrong)\n");
+
+    // Checked counter: seeded random hull/ellipsoid/box/cylinder pairs at random poses; the double boolean
+    // and distance against cdkit's long-double run (distance relative error ≤ 1e-9 where the distance is
+    // ≥ 1e-6 of the scale; booleans compared where |distance| > 1e-9·scale).
+    {
+        std::mt19937_64 r2(7);
+        auto [h1, h1l] = hull(200)(r2);
+        auto [h2, h2l] = hull(50)(r2);
+        Ellipsoid<double> e(Vec3<double>(0.1, 0.05, 0.08));
+        Ellipsoid<LD> el(Vec3<LD>(0.1L, 0.05L, 0.08L));
+        Cylinder<double> cy(0.05, 0.1);
+        Cylinder<LD> cyl_l(0.05L, 0.1L);
+        long fail_bool = 0, fail_dist = 0, hits = 0, dist_checked = 0;
+        GjkSettings<LD> tight;
+        tight.rel_tolerance = 1e-16L;
+        std::uniform_real_distribution<double> t(-0.3, 0.3);
+        auto t0 = Clock::now();
+        for (long i = 0; i < checks; ++i) {
+            Transform<double> pa(random_rotation(r2), Vec3<double>::Zero());
+            Transform<double> pb(random_rotation(r2), Vec3<double>(t(r2), t(r2), t(r2)));
+            auto check = [&](const auto& a, const auto& al, const auto& b, const auto& bl) {
+                auto ref = gjk_distance(al, pa.cast<LD>(), bl, pb.cast<LD>(), nullptr, tight);
+                auto d = gjk_distance(a, pa, b, pb);
+                auto bo = gjk_intersect(a, pa, b, pb);
+                bool ref_hit = ref.colliding();
+                hits += ref_hit;
+                if (!ref_hit && ref.distance > 1e-9L * 0.1L) {
+                    if (bo.colliding() || d.colliding()) ++fail_bool;
+                    if (ref.distance > 1e-7L) {
+                        ++dist_checked;
+                        if (std::abs(LD(d.distance) - ref.distance) > 1e-9L * ref.distance) {
+                            if (++fail_dist <= 5)
+                                std::printf("  distance failure: case %ld pair %ld: %.17g vs reference %.17Lg, %d it, "
+                                            "status %d\n", i, i % 4, d.distance, ref.distance, d.iterations,
+                                            int(d.status));
+                        }
+                    }
+                } else if (ref_hit && !(bo.colliding() && d.colliding())) {
+                    ++fail_bool;
+                }
+            };
+            switch (i % 4) {
+                case 0: check(h1, h1l, h2, h2l); break;
+                case 1: check(h1, h1l, e, el); break;
+                case 2: check(e, el, cy, cyl_l); break;
+                default: check(cy, cyl_l, h2, h2l); break;
+            }
+        }
+        double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+        std::printf("checked counter: %ld seeded cases (%ld colliding), boolean failures %ld, distance checks %ld with "
+                    "rel. error > 1e-9: %ld  (%.1f s)\n",
+                    checks, hits, fail_bool, dist_checked, fail_dist, secs);
+        if (fail_bool) return 1;  // distance outliers are reported, booleans must be exact
+    }
+    return 0;
+}

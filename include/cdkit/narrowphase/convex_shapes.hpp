@@ -1,0 +1,148 @@
+#pragma once
+/// \file Primitive convex shapes for the convex narrow phase, each given by its support map (see
+/// support.hpp). All live in their own local frame, centred at the origin, symmetric axis along z; place
+/// them with a pose in the query. Constructors validate (finite, non-negative sizes) and raise
+/// `cdkit::Error`; support queries are const, noexcept and thread-safe.
+
+#include <cdkit/core/error.hpp>
+#include <cdkit/core/math.hpp>
+#include <cdkit/narrowphase/support.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace cdkit {
+
+namespace detail {
+template <class S> inline void check_size(S v, const char* shape, const char* what, bool positive = false) {
+    if (!std::isfinite(v) || v < S(0) || (positive && v == S(0)))
+        throw Error(std::string("<") + shape + ">", what,
+                    positive ? "must be finite and > 0" : "must be finite and >= 0");
+}
+template <class S> inline void check_point(const Vec3<S>& p, const char* shape, const char* what) {
+    if (!p.allFinite()) throw Error(std::string("<") + shape + ">", what, "must be finite");
+}
+/// ±1 with +1 for zero, so that a zero direction still picks a definite point of the shape.
+template <class S> [[nodiscard]] inline S sign_or_one(S v) noexcept { return v < S(0) ? S(-1) : S(1); }
+}  // namespace detail
+
+/// A ball of radius `radius` around the origin: a point core with margin `radius`.
+template <class S = double> struct Sphere {
+    using Scalar = S;
+    S radius;
+    explicit Sphere(S r) : radius(r) { detail::check_size(r, "sphere", "radius"); }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        return radius * detail::safe_normalized(d);
+    }
+    [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+    [[nodiscard]] S margin() const noexcept { return radius; }
+    [[nodiscard]] Vec3<S> core_support(const Vec3<S>&) const noexcept { return Vec3<S>::Zero(); }
+};
+
+/// An axis-aligned box [-h, h] (h = half extents) in its local frame.
+template <class S = double> struct Box {
+    using Scalar = S;
+    Vec3<S> half;
+    explicit Box(const Vec3<S>& half_extents) : half(half_extents) {
+        for (int i = 0; i < 3; ++i) detail::check_size(half[i], "box", "half extent");
+    }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        return {detail::sign_or_one(d.x()) * half.x(), detail::sign_or_one(d.y()) * half.y(),
+                detail::sign_or_one(d.z()) * half.z()};
+    }
+    [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+};
+
+/// A capsule: the segment z ∈ [-half_length, half_length] grown by `radius`.
+template <class S = double> struct Capsule {
+    using Scalar = S;
+    S radius, half_length;
+    Capsule(S r, S half_len) : radius(r), half_length(half_len) {
+        detail::check_size(r, "capsule", "radius");
+        detail::check_size(half_len, "capsule", "half length");
+    }
+    [[nodiscard]] Vec3<S> core_support(const Vec3<S>& d) const noexcept {
+        return {S(0), S(0), detail::sign_or_one(d.z()) * half_length};
+    }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        return core_support(d) + radius * detail::safe_normalized(d);
+    }
+    [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+    [[nodiscard]] S margin() const noexcept { return radius; }
+};
+
+/// A solid cylinder of radius `radius`, z ∈ [-half_height, half_height].
+template <class S = double> struct Cylinder {
+    using Scalar = S;
+    S radius, half_height;
+    Cylinder(S r, S half_h) : radius(r), half_height(half_h) {
+        detail::check_size(r, "cylinder", "radius");
+        detail::check_size(half_h, "cylinder", "half height");
+    }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        S rho = std::hypot(d.x(), d.y());
+        Vec3<S> p(S(0), S(0), detail::sign_or_one(d.z()) * half_height);
+        if (rho > S(0)) { p.x() = radius * d.x() / rho; p.y() = radius * d.y() / rho; }
+        return p;
+    }
+    [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+};
+
+/// A solid cone: base disc of radius `radius` at z = -half_height, apex at z = +half_height.
+template <class S = double> struct Cone {
+    using Scalar = S;
+    S radius, half_height;
+    Cone(S r, S half_h) : radius(r), half_height(half_h) {
+        detail::check_size(r, "cone", "radius");
+        detail::check_size(half_h, "cone", "half height");
+    }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        // The apex wins when d lies inside the cone of normals at the apex: d_z·|side| > r·|d| with the
+        // side generator length |side| = sqrt(r² + (2h)²); compared without division.
+        S rho = std::hypot(d.x(), d.y());
+        S side = std::hypot(radius, S(2) * half_height);
+        if (d.z() * side > radius * d.norm() || (rho == S(0) && d.z() > S(0)))
+            return {S(0), S(0), half_height};
+        Vec3<S> p(S(0), S(0), -half_height);
+        if (rho > S(0)) { p.x() = radius * d.x() / rho; p.y() = radius * d.y() / rho; }
+        return p;
+    }
+    /// The centroid, a quarter of the height above the base.
+    [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), -half_height / S(2)}; }
+};
+
+/// A solid axis-aligned ellipsoid with semi-axes `radii`.
+template <class S = double> struct Ellipsoid {
+    using Scalar = S;
+    Vec3<S> radii;
+    explicit Ellipsoid(const Vec3<S>& r) : radii(r) {
+        for (int i = 0; i < 3; ++i) detail::check_size(r[i], "ellipsoid", "radius");
+    }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        // argmax d·x on x = D u, |u| = 1 is D (D d)/|D d| with D = diag(radii).
+        Vec3<S> dd = radii.cwiseProduct(d);
+        S n = dd.norm();
+        if (!(n > S(0))) return {S(0), S(0), radii.z()};
+        return radii.cwiseProduct(dd) / n;
+    }
+    [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+};
+
+/// A triangle (flat convex set) with vertices a, b, c in the local frame.
+template <class S = double> struct ConvexTriangle {
+    using Scalar = S;
+    Vec3<S> a, b, c;
+    ConvexTriangle(const Vec3<S>& a_, const Vec3<S>& b_, const Vec3<S>& c_) : a(a_), b(b_), c(c_) {
+        detail::check_point(a, "triangle", "vertex a");
+        detail::check_point(b, "triangle", "vertex b");
+        detail::check_point(c, "triangle", "vertex c");
+    }
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+        S da = d.dot(a), db = d.dot(b), dc = d.dot(c);
+        if (da >= db && da >= dc) return a;
+        return db >= dc ? b : c;
+    }
+    [[nodiscard]] Vec3<S> center() const noexcept { return (a + b + c) / S(3); }
+};
+
+}  // namespace cdkit

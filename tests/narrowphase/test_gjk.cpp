@@ -1,0 +1,329 @@
+// GJK against exact references: closed forms for sphere/capsule/box pairs, brute-force polytope distance
+// in long double; touching configurations, scale ratios, warm start, concurrency.
+#include <catch2/catch.hpp>
+
+#include <cdkit/narrowphase/convex_polyhedron.hpp>
+#include <cdkit/narrowphase/convex_shapes.hpp>
+#include <cdkit/narrowphase/gjk.hpp>
+
+#include "mesh_factory.hpp"
+#include "narrowphase/convex_reference.hpp"
+#include "test_common.hpp"
+
+#include <thread>
+
+using namespace cdkit;
+using cdkit::test::L;
+using cdkit::test::VL;
+
+namespace {
+
+Transform<double> random_pose(std::mt19937_64& rng, double spread) {
+    std::uniform_real_distribution<double> u(-spread, spread);
+    return {test::random_rotation(rng), Vec3<double>(u(rng), u(rng), u(rng))};
+}
+
+std::vector<Vec3<double>> random_points(std::mt19937_64& rng, int n, double r) {
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(0.2, 1.0);
+    std::vector<Vec3<double>> pts;
+    for (int i = 0; i < n; ++i) {
+        Vec3<double> p(g(rng), g(rng), g(rng));
+        pts.push_back(p.normalized() * r * u(rng));
+    }
+    return pts;
+}
+
+std::vector<Vec3<double>> box_corners(const Vec3<double>& h) {
+    std::vector<Vec3<double>> c;
+    for (int i = 0; i < 8; ++i)
+        c.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("convex shapes reject bad input", "[gjk][shapes]") {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    CHECK_THROWS_AS(Sphere<double>(-1.0), Error);
+    CHECK_THROWS_AS(Sphere<double>(nan), Error);
+    CHECK_THROWS_AS(Box<double>(Vec3<double>(1, -1, 1)), Error);
+    CHECK_THROWS_AS(Capsule<double>(1.0, nan), Error);
+    CHECK_THROWS_AS(Cylinder<double>(-0.1, 1.0), Error);
+    CHECK_THROWS_AS(Cone<double>(1.0, -1.0), Error);
+    CHECK_THROWS_AS(Ellipsoid<double>(Vec3<double>(1, 1, nan)), Error);
+    CHECK_THROWS_AS(ConvexTriangle<double>(Vec3<double>(nan, 0, 0), Vec3<double>::Zero(), Vec3<double>::Zero()),
+                    Error);
+    CHECK_NOTHROW(Sphere<double>(0.0));
+}
+
+TEST_CASE("convex hull rejects empty, few, flat and NaN point sets", "[gjk][convex_hull]") {
+    using P = std::vector<Vec3<double>>;
+    CHECK_THROWS_AS(ConvexPolyhedron<double>(P{}), Error);
+    CHECK_THROWS_AS(ConvexPolyhedron<double>(P{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), Error);
+    CHECK_THROWS_AS(ConvexPolyhedron<double>(P{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.2, 0}}), Error);
+    CHECK_THROWS_AS(ConvexPolyhedron<double>(P{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}), Error);
+    CHECK_THROWS_AS(ConvexPolyhedron<double>(P{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, std::nan("")}}), Error);
+    ConvexPolyhedron<double> cube(box_corners({1, 2, 3}));
+    CHECK(cube.vertices().size() == 8);
+    CHECK(cube.triangles().size() == 12);
+}
+
+TEST_CASE("convex hull contains its points; hill climbing equals brute force", "[gjk][convex_hull]") {
+    std::mt19937_64 rng(42);
+    for (int n : {20, 200, 1000}) {
+        auto pts = random_points(rng, n, 1.0);
+        ConvexPolyhedron<double> hull(pts);
+        auto ref = test::ref_polytope(hull, Transform<double>{});
+        int outside = 0;
+        for (const auto& p : pts) {
+            for (const auto& t : ref.tri) {
+                VL n3 = (ref.v[t[1]] - ref.v[t[0]]).cross(ref.v[t[2]] - ref.v[t[0]]);
+                if (n3.normalized().dot(p.cast<L>() - ref.v[t[0]]) > 1e-12L) { ++outside; break; }
+            }
+        }
+        CHECK(outside == 0);
+        std::normal_distribution<double> g;
+        for (int i = 0; i < 500; ++i) {
+            Vec3<double> d(g(rng), g(rng), g(rng));
+            double best = -1e300;
+            for (const auto& v : hull.vertices()) best = std::max(best, d.dot(v));
+            REQUIRE(d.dot(hull.support(d)) == best);
+        }
+    }
+}
+
+TEST_CASE("support maps are maximal over sampled support points", "[gjk][shapes]") {
+    std::mt19937_64 rng(7);
+    Sphere<double> sphere(0.7);
+    Box<double> box({0.3, 0.5, 0.9});
+    Capsule<double> capsule(0.2, 0.8);
+    Cylinder<double> cylinder(0.5, 0.4);
+    Cone<double> cone(0.6, 0.7);
+    Ellipsoid<double> ell({0.2, 0.9, 0.5});
+    ConvexTriangle<double> tri({0, 0, 0}, {1, 0.2, 0}, {0.3, 1, 0.5});
+    std::normal_distribution<double> g;
+    auto check = [&](const auto& s) {
+        int bad = 0;
+        std::vector<Vec3<double>> dirs;
+        for (int i = 0; i < 200; ++i) dirs.emplace_back(g(rng), g(rng), g(rng));
+        dirs.emplace_back(0, 0, 0);
+        dirs.emplace_back(0, 0, 1);
+        dirs.emplace_back(0, 0, -1);
+        for (const auto& d : dirs) {
+            Vec3<double> p = s.support(d);
+            if (!p.allFinite()) ++bad;
+            for (const auto& e : dirs)
+                if (d.dot(Vec3<double>(s.support(e))) > d.dot(p) + 1e-12) ++bad;
+        }
+        CHECK(bad == 0);
+    };
+    check(sphere); check(box); check(capsule); check(cylinder); check(cone); check(ell); check(tri);
+    check(Inflated<Box<double>>{box, 0.1});
+    check(Transformed<Cone<double>>{cone, random_pose(rng, 1.0)});
+    check(MinkowskiDifference<Cylinder<double>, Ellipsoid<double>>{cylinder, ell});
+    // Cone apex and base rim lie on the cone.
+    CHECK(cone.support({0, 0, 1}).z() == Approx(0.7));
+    CHECK(cone.support({1, 0, 0}).isApprox(Vec3<double>(0.6, 0, -0.7)));
+}
+
+TEMPLATE_TEST_CASE("GJK sphere-sphere and sphere-capsule match closed forms", "[gjk]", float, double) {
+    using S = TestType;
+    std::mt19937_64 rng(11);
+    const S tol = std::is_same_v<S, double> ? S(1e-12) : S(2e-5);
+    int hits = 0, n = test::scaled(2000, 50);
+    for (int i = 0; i < n; ++i) {
+        std::uniform_real_distribution<double> ur(0.01, 1.0);
+        Sphere<S> a(S(ur(rng))), b(S(ur(rng)));
+        Capsule<S> c(S(ur(rng)), S(ur(rng)));
+        Transform<S> pa = random_pose(rng, 1.5).template cast<S>(), pb = random_pose(rng, 1.5).template cast<S>();
+        auto r = gjk_distance(a, pa, b, pb);
+        L ref = (pa.t.template cast<L>() - pb.t.template cast<L>()).norm() - L(a.radius) - L(b.radius);
+        if (ref > 0) {
+            REQUIRE(r.status == GjkStatus::separated);
+            CHECK(std::abs(L(r.distance) - ref) <= L(tol) * std::max<L>(1, ref));
+            CHECK((r.point_b - r.point_a).norm() == Approx(r.distance).margin(10 * tol));
+        } else {
+            ++hits;
+            CHECK(r.colliding());
+        }
+        CHECK(gjk_intersect(a, pa, b, pb).colliding() == (ref <= 0));
+        // Sphere against capsule: the capsule axis is the segment ±half_length·z in its frame.
+        auto rc = gjk_distance(a, pa, c, pb);
+        VL p = pa.t.template cast<L>();
+        VL e0 = (pb * Vec3<S>(0, 0, -c.half_length)).template cast<L>();
+        VL e1 = (pb * Vec3<S>(0, 0, c.half_length)).template cast<L>();
+        L refc = (test::closest_on_segment(p, e0, e1) - p).norm() - L(a.radius) - L(c.radius);
+        if (refc > 0) CHECK(std::abs(L(rc.distance) - refc) <= L(tol) * 10 * std::max<L>(1, refc));
+        else CHECK(rc.colliding());
+    }
+    CHECK(hits > n / 10);
+    CHECK(hits < n * 9 / 10);
+}
+
+TEST_CASE("GJK sphere-box matches closed form across scale ratios up to 1e6", "[gjk]") {
+    std::mt19937_64 rng(5);
+    int hits = 0, total = 0;
+    for (double scale : {1e-3, 1.0, 1e3, 1e6}) {
+        for (int i = 0; i < test::scaled(500, 20); ++i) {
+            std::uniform_real_distribution<double> u(0.1, 1.0);
+            Box<double> box(Vec3<double>(u(rng), u(rng), u(rng)) * scale);
+            Sphere<double> sphere(u(rng));
+            Transform<double> pb = random_pose(rng, 0.1);
+            pb.t *= scale;
+            Transform<double> ps = random_pose(rng, 1.6 * scale);
+            auto r = gjk_distance(sphere, ps, box, pb);
+            VL c = (pb.inverse() * ps.t).cast<L>();
+            L ref = test::point_box_distance(c, box.half.cast<L>()) - L(sphere.radius);
+            ++total;
+            if (ref > 1e-9L * scale) {
+                REQUIRE(r.status == GjkStatus::separated);
+                CHECK(std::abs(L(r.distance) - ref) <= 1e-9L * std::max<L>(ref, L(1e-6) * scale));
+            } else if (ref < -1e-9L * scale) {
+                ++hits;
+                CHECK(r.colliding());
+            }
+        }
+    }
+    CHECK(hits > total / 20);
+    CHECK(hits < total * 19 / 20);
+}
+
+TEST_CASE("GJK polytope distance matches brute force in long double", "[gjk]") {
+    std::mt19937_64 rng(2024);
+    int n = test::scaled(300, 20), hits = 0, separated = 0;
+    for (int i = 0; i < n; ++i) {
+        std::uniform_int_distribution<int> un(8, 40);
+        ConvexPolyhedron<double> a(random_points(rng, un(rng), 1.0));
+        ConvexPolyhedron<double> b(i % 3 == 0 ? box_corners({0.4, 0.7, 0.2}) : random_points(rng, un(rng), 0.6));
+        Transform<double> pa = random_pose(rng, 0.3), pb = random_pose(rng, 1.5);
+        auto ra = test::ref_polytope(a, pa), rb = test::ref_polytope(b, pb);
+        bool ref_hit = test::ref_intersect(ra, rb);
+        auto r = gjk_distance(a, pa, b, pb);
+        auto rbool = gjk_intersect(a, pa, b, pb);
+        if (ref_hit) {
+            ++hits;
+            CHECK(r.colliding());
+            CHECK(rbool.colliding());
+        } else {
+            ++separated;
+            L ref = test::ref_distance(ra, rb);
+            if (ref > 1e-12L) {
+                REQUIRE(r.status == GjkStatus::separated);
+                CHECK(std::abs(L(r.distance) - ref) <= 1e-9L * std::max<L>(ref, 1e-3L));
+                CHECK(!rbool.colliding());
+                // Witness points lie on the shapes: their distance is the distance.
+                CHECK(std::abs((r.point_a - r.point_b).norm() - r.distance) <= 1e-9 * std::max(1.0, r.distance));
+            }
+        }
+    }
+    CHECK(hits > n / 10);
+    CHECK(separated > n / 10);
+}
+
+TEST_CASE("GJK touching configurations: boxes face to face, edge to edge", "[gjk][touching]") {
+    Box<double> box({0.5, 0.5, 0.5});
+    ConvexPolyhedron<double> hull(box_corners({0.5, 0.5, 0.5}));
+    for (double s : {1e-3, 1.0, 1e4}) {
+        Box<double> b2({0.5 * s, 0.5 * s, 0.5 * s});
+        Transform<double> pa = Transform<double>::translation({0, 0, 0});
+        Transform<double> pb = Transform<double>::translation({0.5 + 0.5 * s, 0.2, -0.1});
+        auto r = gjk_distance(box, pa, b2, pb);
+        CHECK(r.colliding());
+        CHECK(r.distance == 0.0);
+        CHECK(gjk_intersect(box, pa, b2, pb).colliding());
+        pb.t.x() += 1e-3;
+        r = gjk_distance(box, pa, b2, pb);
+        CHECK(r.status == GjkStatus::separated);
+        CHECK(r.distance == Approx(1e-3).epsilon(1e-9));
+        CHECK(r.normal.isApprox(Vec3<double>(1, 0, 0), 1e-9));
+    }
+    // Hull against box, face to face exactly.
+    auto r = gjk_distance(hull, Transform<double>{}, box, Transform<double>::translation({0, 1.0, 0}));
+    CHECK(r.colliding());
+    CHECK(r.distance == 0.0);
+    // Sphere resting on a box face.
+    Sphere<double> sphere(0.25);
+    r = gjk_distance(sphere, Transform<double>::translation({0.1, 0.2, 0.75}), box, Transform<double>{});
+    CHECK(r.status == GjkStatus::touching);
+}
+
+TEST_CASE("GJK shapes of all kinds: boolean agrees with distance, hit rate", "[gjk]") {
+    std::mt19937_64 rng(99);
+    Cylinder<double> cyl(0.4, 0.6);
+    Cone<double> cone(0.5, 0.5);
+    Ellipsoid<double> ell({0.3, 0.6, 0.2});
+    Capsule<double> cap(0.2, 0.5);
+    ConvexPolyhedron<double> hull(random_points(rng, 300, 0.7));
+    int hits = 0, n = test::scaled(1000, 50), bad = 0;
+    auto run = [&](const auto& a, const auto& b) {
+        Transform<double> pa = random_pose(rng, 0.5), pb = random_pose(rng, 1.0);
+        auto d = gjk_distance(a, pa, b, pb);
+        auto i = gjk_intersect(a, pa, b, pb);
+        if (d.status == GjkStatus::max_iterations || d.status == GjkStatus::degenerate) ++bad;
+        if (d.colliding()) ++hits;
+        if (d.status == GjkStatus::separated && d.distance > 1e-9) {
+            // Lower bound check: witnesses are on the shapes, so nothing can be closer than their gap
+            // measured along the normal; and the boolean must agree.
+            if (i.colliding()) ++bad;
+            double gap = (d.point_b - d.point_a).dot(d.normal);
+            if (std::abs(gap - d.distance) > 1e-9) ++bad;
+            // The support planes along ±normal certify the distance.
+            Vec3<double> nA = pa.R.transpose() * d.normal, nB = pb.R.transpose() * (-d.normal);
+            double hA = d.normal.dot(pa * Vec3<double>(a.support(nA)));
+            double hB = d.normal.dot(pb * Vec3<double>(b.support(nB)));
+            if (std::abs((hB - hA) - d.distance) > 1e-7) ++bad;
+        } else if (d.colliding() && !i.colliding()) {
+            ++bad;
+        }
+    };
+    for (int k = 0; k < n; ++k) {
+        run(cyl, cone); run(ell, cap); run(hull, cyl); run(cone, ell); run(cap, hull);
+    }
+    CHECK(bad == 0);
+    CHECK(hits > n / 2);
+    CHECK(hits < 4 * n);
+}
+
+TEST_CASE("GJK warm start gives the same answer with no more iterations", "[gjk][warm_start]") {
+    std::mt19937_64 rng(3);
+    ConvexPolyhedron<double> a(random_points(rng, 500, 1.0)), b(random_points(rng, 500, 1.0));
+    GjkCache<double> cache;
+    long cold_it = 0, warm_it = 0;
+    Transform<double> pb = Transform<double>::translation({2.5, 0.3, 0.1});
+    for (int step = 0; step < 200; ++step) {
+        Transform<double> pa(Eigen::AngleAxisd(0.01 * step, Vec3<double>(0, 0, 1)).toRotationMatrix(),
+                             Vec3<double>(0.002 * step, 0, 0));
+        auto cold = gjk_distance(a, pa, b, pb);
+        auto warm = gjk_distance(a, pa, b, pb, &cache);
+        cold_it += cold.iterations;
+        warm_it += warm.iterations;
+        REQUIRE(cold.status == warm.status);
+        CHECK(warm.distance == Approx(cold.distance).epsilon(1e-12));
+    }
+    CHECK(warm_it <= cold_it);
+}
+
+TEST_CASE("GJK queries are thread-safe on shared shapes", "[gjk][concurrency]") {
+    std::mt19937_64 rng(8);
+    ConvexPolyhedron<double> a(random_points(rng, 400, 1.0));
+    Ellipsoid<double> e({0.5, 0.3, 0.8});
+    std::vector<Transform<double>> poses;
+    for (int i = 0; i < 400; ++i) poses.push_back(random_pose(rng, 1.5));
+    std::vector<double> serial;
+    for (const auto& p : poses) serial.push_back(gjk_distance(a, Transform<double>{}, e, p).distance);
+    std::vector<int> mismatches(4, 0);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&, t] {
+            GjkCache<double> cache;  // per thread, per pair
+            for (std::size_t i = 0; i < poses.size(); ++i) {
+                auto r = gjk_distance(a, Transform<double>{}, e, poses[i]);
+                if (r.distance != serial[i]) ++mismatches[std::size_t(t)];
+                auto w = gjk_distance(a, Transform<double>{}, e, poses[i], &cache);
+                if (std::abs(w.distance - serial[i]) > 1e-9) ++mismatches[std::size_t(t)];
+            }
+        });
+    for (auto& th : threads) th.join();
+    for (int m : mismatches) CHECK(m == 0);
+}

@@ -1,0 +1,239 @@
+// distance() on BVHs against distance_brute_force() (same triangle routine, so equal values when no error
+// is allowed), the error bound when one is, closest points on their triangles, intersecting poses, parallel
+// faces, degenerate triangles, both scalars, Aabb and Obb, and concurrent queries. Fixed seeds.
+#include "mesh_factory.hpp"
+#include "test_common.hpp"
+
+#include "cdkit/distance.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+#include <thread>
+
+using namespace cdkit;
+
+namespace {
+
+// Distance from x to the closed triangle (a,b,c) in double, possibly degenerate.
+double point_triangle(const Vec3<double>& X, const Vec3<double>& A, const Vec3<double>& B, const Vec3<double>& C) {
+    auto seg = [&](const Vec3<double>& a, const Vec3<double>& b) {
+        const Vec3<double> d = b - a;
+        const double dd = d.squaredNorm();
+        const double t = dd > 0 ? std::clamp((X - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+        return (a + t * d - X).norm();
+    };
+    double best = std::min({seg(A, B), seg(B, C), seg(C, A)});
+    const Vec3<double> n = (B - A).cross(C - A);
+    const double nn = n.squaredNorm();
+    if (nn > 0) {
+        const Vec3<double> p = X - n * (n.dot(X - A) / nn);
+        const double u = n.dot((C - B).cross(p - B)) / nn, v = n.dot((A - C).cross(p - C)) / nn;
+        if (u >= 0 && v >= 0 && 1 - u - v >= 0) best = std::min(best, (X - p).norm());
+    }
+    return best;
+}
+
+template <class S> double on_triangle(const TriangleMesh<S>& m, Index t, const Transform<S>& pose, const Vec3<S>& p) {
+    const auto tri = m.triangle(t);
+    const Transform<double> P = pose.template cast<double>();
+    return point_triangle(p.template cast<double>(), P * tri[0].template cast<double>(), P * tri[1].template cast<double>(),
+                          P * tri[2].template cast<double>());
+}
+
+template <class S> double tol() { return std::is_same_v<S, float> ? 1e-4 : 1e-10; }
+
+template <class S> Transform<S> random_pose(std::mt19937_64& rng, double spread) {
+    std::uniform_real_distribution<double> u(-spread, spread);
+    return Transform<double>(test::random_rotation<double>(rng), Vec3<double>(u(rng), u(rng), u(rng))).template cast<S>();
+}
+
+template <class S>
+void check_result(const TriangleMesh<S>& ma, const Transform<S>& pa, const TriangleMesh<S>& mb, const Transform<S>& pb,
+                  const DistanceResult<S>& r) {
+    CHECK(on_triangle(ma, r.triangle_a, pa, r.point_a) <= tol<S>());
+    CHECK(on_triangle(mb, r.triangle_b, pb, r.point_b) <= tol<S>());
+    CHECK(std::abs((r.point_a - r.point_b).template cast<double>().norm() - double(r.distance)) <= tol<S>());
+}
+
+// A box of half extents h, each face split into 2·n² triangles (so that face-to-face pairs tie a lot).
+template <class S> TriangleMesh<S> grid_box(Vec3<double> h, int n) {
+    TriangleMesh<S> m;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const Index base = Index(m.vertices.size());
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n; ++j) {
+                    Vec3<double> p;
+                    p[axis] = sign * h[axis];
+                    p[u] = h[u] * (2.0 * i / n - 1);
+                    p[v] = h[v] * (2.0 * j / n - 1);
+                    m.vertices.push_back(p.cast<S>());
+                }
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    const Index a = base + Index(i * (n + 1) + j), b = a + 1, c = a + Index(n + 1), d = c + 1;
+                    m.triangles.push_back({a, c, d});
+                    m.triangles.push_back({a, d, b});
+                }
+        }
+    return m;
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[distance]", Aabb<float>, Aabb<double>,
+                   Obb<float>, Obb<double>) {
+    using BV = TestType;
+    using S = typename BV::Scalar;
+    std::mt19937_64 rng(2024);
+    const MeshModel<BV> soup_a(test::random_soup<S>(90, S(0.3), 1));
+    const MeshModel<BV> soup_b(test::random_soup<S>(70, S(0.2), 2));
+    const MeshModel<BV> sphere(test::uv_sphere<S>(S(0.8), 8, 10));
+    const std::pair<const MeshModel<BV>*, const MeshModel<BV>*> pairs[] = {
+        {&soup_a, &soup_b}, {&sphere, &soup_b}, {&sphere, &sphere}};
+    int intersecting = 0, separated = 0;
+    for (const auto& [a, b] : pairs)
+        for (int k = 0; k < test::scaled(30, 4); ++k) {
+            const Transform<S> pa = random_pose<S>(rng, 1.0), pb = random_pose<S>(rng, 2.5);
+            const DistanceResult<S> r = distance(*a, pa, *b, pb);
+            const DistanceResult<S> ref = distance_brute_force(a->mesh(), pa, b->mesh(), pb);
+            INFO("pose " << k);
+            REQUIRE(r.distance == ref.distance);
+            check_result(a->mesh(), pa, b->mesh(), pb, r);
+            const bool hit = collide(*a, pa, *b, pb).colliding;
+            CHECK((r.distance == S(0)) == hit);
+            (hit ? intersecting : separated) += 1;
+            CHECK(r.stats.primitive_tests <= a->mesh().num_triangles() * b->mesh().num_triangles());
+            // With an error allowed: within the bound, never below the exact answer.
+            for (const auto& [rel, abs] : {std::pair<S, S>{S(0.05), S(0)}, {S(0), S(0.05)}, {S(0.5), S(0.1)}}) {
+                const DistanceResult<S> e = distance(*a, pa, *b, pb, {rel, abs});
+                CHECK(e.distance >= ref.distance);
+                CHECK(e.distance <= (1 + rel) * ref.distance + abs);
+                check_result(a->mesh(), pa, b->mesh(), pb, e);
+            }
+        }
+    CHECK(intersecting >= 5);
+    CHECK(separated >= 15);
+}
+
+TEMPLATE_TEST_CASE("distance: boxes face to face, parallel faces at a gap", "[distance]", Aabb<float>, Aabb<double>,
+                   Obb<float>, Obb<double>) {
+    using BV = TestType;
+    using S = typename BV::Scalar;
+    const MeshModel<BV> box(grid_box<S>({0.5, 0.3, 0.2}, 4));
+    std::mt19937_64 rng(5);
+    for (double gap : {0.0, 1e-3, 0.01, 0.1, 0.7}) {
+        // B shifted along x by the sum of half extents + gap, then both rotated rigidly together.
+        const Transform<double> common(test::random_rotation<double>(rng), Vec3<double>(0.3, -0.2, 0.1));
+        const Transform<S> pa = common.template cast<S>();
+        const Transform<S> pb = (common * Transform<double>::translation({1.0 + gap, 0.05, -0.02})).template cast<S>();
+        const DistanceResult<S> r = distance(box, pa, box, pb);
+        const DistanceResult<S> ref = distance_brute_force(box.mesh(), pa, box.mesh(), pb);
+        INFO("gap " << gap);
+        CHECK(r.distance == ref.distance);
+        CHECK(std::abs(double(r.distance) - gap) <= tol<S>() * 10);
+        check_result(box.mesh(), pa, box.mesh(), pb, r);
+    }
+}
+
+TEMPLATE_TEST_CASE("distance: meshes with degenerate triangles", "[distance]", Aabb<float>, Aabb<double>, Obb<float>,
+                   Obb<double>) {
+    using BV = TestType;
+    using S = typename BV::Scalar;
+    TriangleMesh<S> m = test::random_soup<S>(80, S(0.3), 9);
+    // Collapse every fourth triangle to a segment and every seventh to a point.
+    for (std::size_t i = 0; i < m.triangles.size(); i += 4) m.triangles[i][2] = m.triangles[i][1];
+    for (std::size_t i = 1; i < m.triangles.size(); i += 7) m.triangles[i] = {m.triangles[i][0], m.triangles[i][0], m.triangles[i][0]};
+    const MeshModel<BV> a(m);
+    // A mesh of degenerate triangles only.
+    TriangleMesh<S> d;
+    for (int i = 0; i < 30; ++i) {
+        d.vertices.push_back(Vec3<S>(S(0.03 * i), S(0.5), S(0)));
+        d.vertices.push_back(Vec3<S>(S(0.03 * i), S(0.6), S(0.1)));
+        d.triangles.push_back({Index(2 * i), Index(2 * i + 1), Index(2 * i + 1)});
+    }
+    const MeshModel<BV> b(d);
+    std::mt19937_64 rng(77);
+    for (int k = 0; k < test::scaled(15, 3); ++k) {
+        const Transform<S> pa = random_pose<S>(rng, 0.5), pb = random_pose<S>(rng, 1.5);
+        const DistanceResult<S> r = distance(a, pa, b, pb);
+        const DistanceResult<S> ref = distance_brute_force(a.mesh(), pa, b.mesh(), pb);
+        REQUIRE(r.distance == ref.distance);
+        check_result(a.mesh(), pa, b.mesh(), pb, r);
+        const DistanceResult<S> r2 = distance(a, pa, a, pb);
+        REQUIRE(r2.distance == distance_brute_force(a.mesh(), pa, a.mesh(), pb).distance);
+    }
+}
+
+TEST_CASE("distance lower bounds of boxes never exceed the sampled distance", "[distance][bv]") {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1), h(0.01, 0.6);
+    int positive = 0;
+    const int n = test::scaled(2000, 100);
+    for (int k = 0; k < n; ++k) {
+        const Transform<double> rel_t(test::random_rotation<double>(rng), Vec3<double>(2 * u(rng), 2 * u(rng), 2 * u(rng)));
+        Obb<double> a, b;
+        a.axes = test::random_rotation<double>(rng);
+        b.axes = test::random_rotation<double>(rng);
+        a.center = Vec3<double>(u(rng), u(rng), u(rng)) * 0.3;
+        b.center = Vec3<double>(u(rng), u(rng), u(rng)) * 0.3;
+        a.half = Vec3<double>(h(rng), h(rng), h(rng));
+        b.half = Vec3<double>(h(rng), h(rng), h(rng));
+        const double lb = distance_lower_bound(a, b, Obb<double>::relative(rel_t));
+        Aabb<double> aa{a.center, a.half}, ab{b.center, b.half};
+        const double lba = distance_lower_bound(aa, ab, Aabb<double>::relative(rel_t));
+        positive += lb > 0;
+        // Sample the distance of the two boxes as the minimum over the 8 corners of one against the other's
+        // faces and over corner pairs: it is an upper bound of the true distance, so lb must not exceed it.
+        auto box_point_dist = [](const Vec3<double>& p, const Mat3<double>& axes, const Vec3<double>& c,
+                                 const Vec3<double>& half) {
+            const Vec3<double> l = axes.transpose() * (p - c);
+            return (l.cwiseAbs() - half).cwiseMax(0.0).norm();
+        };
+        auto corners_upper = [&](const Mat3<double>& Ra, const Vec3<double>& ca, const Vec3<double>& ha,
+                                 const Mat3<double>& Rb, const Vec3<double>& cb, const Vec3<double>& hb) {
+            double best = 1e300;
+            std::uniform_real_distribution<double> s(-1, 1);
+            for (int i = 0; i < 8; ++i) {
+                const Vec3<double> sgn(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+                best = std::min(best, box_point_dist(Rb * sgn.cwiseProduct(hb) + cb, Ra, ca, ha));
+                best = std::min(best, box_point_dist(Ra * sgn.cwiseProduct(ha) + ca, Rb, cb, hb));
+            }
+            for (int i = 0; i < 200; ++i) {  // points on B's surface region: random points in B
+                const Vec3<double> q(s(rng), s(rng), s(rng));
+                best = std::min(best, box_point_dist(Rb * q.cwiseProduct(hb) + cb, Ra, ca, ha));
+            }
+            return best;
+        };
+        const double up = corners_upper(a.axes, a.center, a.half, rel_t.R * b.axes, rel_t * b.center, b.half);
+        CHECK(lb <= up + 1e-12);
+        const double upa = corners_upper(Mat3<double>::Identity(), a.center, a.half, rel_t.R, rel_t * b.center, b.half);
+        CHECK(lba <= upa + 1e-12);
+        CHECK(lb >= 0);
+        // Positive exactly when the SAT says disjoint.
+        CHECK((lb > 0) <= !overlap(a, b, Obb<double>::relative(rel_t)));
+    }
+    CHECK(positive > n / 4);
+    CHECK(positive < n);
+}
+
+TEST_CASE("distance queries are thread-safe", "[distance]") {
+    const MeshModel<Obb<double>> a(test::uv_sphere<double>(0.7, 16, 24));
+    const MeshModel<Obb<double>> b(test::random_soup<double>(300, 0.2, 3));
+    std::mt19937_64 rng(99);
+    std::vector<Transform<double>> poses;
+    for (int k = 0; k < test::scaled(64, 8); ++k) poses.push_back(random_pose<double>(rng, 2.0));
+    std::vector<double> serial;
+    for (const auto& p : poses) serial.push_back(distance(a, Transform<double>(), b, p).distance);
+    std::vector<std::vector<double>> par(4, std::vector<double>(poses.size()));
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&, t] {
+            for (std::size_t i = 0; i < poses.size(); ++i)
+                par[t][(i + t * 7) % poses.size()] = distance(a, Transform<double>(), b, poses[(i + t * 7) % poses.size()]).distance;
+        });
+    for (auto& th : threads) th.join();
+    for (int t = 0; t < 4; ++t) CHECK(par[t] == serial);
+}
