@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <random>
 #include <thread>
 
@@ -94,8 +96,9 @@ TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[
     const std::pair<const MeshModel<BV>*, const MeshModel<BV>*> pairs[] = {
         {&soup_a, &soup_b}, {&sphere, &soup_b}, {&sphere, &sphere}};
     int intersecting = 0, separated = 0;
+    const int per_pair = test::scaled(30, 4);
     for (const auto& [a, b] : pairs)
-        for (int k = 0; k < test::scaled(30, 4); ++k) {
+        for (int k = 0; k < per_pair; ++k) {
             const Transform<S> pa = random_pose<S>(rng, 1.0), pb = random_pose<S>(rng, 2.5);
             const DistanceResult<S> r = distance(*a, pa, *b, pb);
             const DistanceResult<S> ref = distance_brute_force(a->mesh(), pa, b->mesh(), pb);
@@ -114,8 +117,9 @@ TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[
                 check_result(a->mesh(), pa, b->mesh(), pb, e);
             }
         }
-    CHECK(intersecting >= 5);
-    CHECK(separated >= 15);
+    // Both outcomes occur often (at full size: ≥ 5 and ≥ 15 of 90; scaled runs keep the proportion).
+    CHECK(intersecting >= std::max(1, per_pair / 6));
+    CHECK(separated >= per_pair / 2);
 }
 
 TEMPLATE_TEST_CASE("distance: boxes face to face, parallel faces at a gap", "[distance]", Aabb<float>, Aabb<double>,
