@@ -49,6 +49,14 @@ template <class S = double> TriangleMesh<S> random_soup(int n, S size, unsigned 
     return m;
 }
 
+/// The mesh scaled uniformly into [-1, 1]^3 and centred at its bounding-box centre (BENCHMARKS.md).
+inline TriangleMesh<double> unit_scaled(TriangleMesh<double> m) {
+    Vec3<double> lo = m.vertices[0], hi = m.vertices[0];
+    for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    for (auto& v : m.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
+    return m;
+}
+
 /// A uniformly random rotation (from a uniform unit quaternion).
 template <class S = double> Mat3<S> random_rotation(std::mt19937_64& rng) {
     std::normal_distribution<double> g;

@@ -1,5 +1,6 @@
 // collide() against the all-pairs reference: in ContactMode::all the set of intersecting triangle pairs
 // must equal brute force's exactly, for every BV and scalar type, on closed meshes and polygon soups.
+#include "bvh/brute_force_check.hpp"
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
@@ -16,21 +17,6 @@
 using namespace cdkit;
 
 namespace {
-template <class S> std::vector<std::pair<Index, Index>> pairs_of(const CollisionResult<S>& r) {
-    std::vector<std::pair<Index, Index>> p;
-    for (const auto& c : r.contacts) p.emplace_back(c.triangle_a, c.triangle_b);
-    std::sort(p.begin(), p.end());
-    return p;
-}
-
-// Poses that put B near A: a random rotation and a translation of length in [0, reach).
-template <class S> Transform<S> near_pose(std::mt19937_64& rng, double reach) {
-    std::uniform_real_distribution<double> u(-1, 1);
-    Vec3<double> d(u(rng), u(rng), u(rng));
-    d *= reach * std::abs(u(rng)) / std::max(1e-9, d.norm());
-    return Transform<S>(test::random_rotation<S>(rng), d.cast<S>());
-}
-
 template <class BV>
 void check_against_brute_force(const TriangleMesh<typename BV::Scalar>& ma, const TriangleMesh<typename BV::Scalar>& mb,
                                int poses, double reach, unsigned seed) {
@@ -41,18 +27,18 @@ void check_against_brute_force(const TriangleMesh<typename BV::Scalar>& ma, cons
     CollisionRequest all;
     all.mode = ContactMode::all;
     for (int i = 0; i < poses; ++i) {
-        const Transform<S> pa = near_pose<S>(rng, 0.5), pb = near_pose<S>(rng, reach);
+        const Transform<S> pa = test::near_pose<S>(rng, 0.5), pb = test::near_pose<S>(rng, reach);
         const auto ref = collide_brute_force(ma, pa, mb, pb, all);
         const auto got = collide(a, pa, b, pb, all);
         REQUIRE(got.colliding == ref.colliding);
-        REQUIRE(pairs_of(got) == pairs_of(ref));
+        REQUIRE(test::contact_pairs(got) == test::contact_pairs(ref));
         const auto first = collide(a, pa, b, pb);
         REQUIRE(first.colliding == ref.colliding);
         if (first.colliding) {
             REQUIRE(first.contacts.size() == 1);
             // The witness is one of the reference's pairs, and its point lies on both triangles (world frame).
             const auto& c = first.contacts[0];
-            const auto rp = pairs_of(ref);
+            const auto rp = test::contact_pairs(ref);
             REQUIRE(std::binary_search(rp.begin(), rp.end(), std::make_pair(c.triangle_a, c.triangle_b)));
             ++hits;
         }
@@ -80,13 +66,8 @@ TEMPLATE_PRODUCT_TEST_CASE("collide equals brute force on polygon soups", "[coll
 }
 
 TEST_CASE("collide equals brute force on the teapot (open, real)", "[collide]") {
-    auto teapot = load_mesh(test::data_path("teapot.obj"));
-    // Scale into the unit cube so the pose ranges mean the same as for the spheres.
-    const Vec3<double> lo = std::accumulate(teapot.vertices.begin(), teapot.vertices.end(), teapot.vertices[0],
-                                            [](const Vec3<double>& a, const Vec3<double>& b) { return a.cwiseMin(b); });
-    const Vec3<double> hi = std::accumulate(teapot.vertices.begin(), teapot.vertices.end(), teapot.vertices[0],
-                                            [](const Vec3<double>& a, const Vec3<double>& b) { return a.cwiseMax(b); });
-    for (auto& v : teapot.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
+    // Scaled into the unit cube so the pose ranges mean the same as for the spheres.
+    const auto teapot = test::unit_scaled(load_mesh(test::data_path("teapot.obj")));
     check_against_brute_force<Obb<double>>(teapot, teapot, test::scaled(12, 4), 2.0, 13);
     check_against_brute_force<Aabb<float>>(teapot.cast<float>(), teapot.cast<float>(), test::scaled(12, 4), 2.0, 14);
 }
@@ -126,14 +107,14 @@ TEST_CASE("collide: huge offsets and tiny scales", "[collide]") {
             const MeshModel<Obb<double>> m(scaled);
             const Transform<double> ps(pb.R, pb.t * s);
             const auto got = collide(m, Transform<double>(), m, ps, all);
-            CHECK(pairs_of(got) == pairs_of(collide_brute_force(scaled, Transform<double>(), scaled, ps, all)));
+            CHECK(test::contact_pairs(got) == test::contact_pairs(collide_brute_force(scaled, Transform<double>(), scaled, ps, all)));
             CHECK(got.colliding == ref.colliding);
         }
         // Both far from the origin: the relative transform stays small, the poses do not.
         const Transform<double> shift = Transform<double>::translation({1e6, -1e6, 1e6});
         const MeshModel<Aabb<double>> m(base);
         const auto got = collide(m, shift, m, shift * pb, all);
-        CHECK(pairs_of(got) == pairs_of(collide_brute_force(base, shift, base, shift * pb, all)));
+        CHECK(test::contact_pairs(got) == test::contact_pairs(collide_brute_force(base, shift, base, shift * pb, all)));
         CHECK(got.colliding == ref.colliding);  // 1e6 + 0.3 rounds, but no pair here is that close to touching
     }
 }
@@ -151,7 +132,7 @@ TEST_CASE("collide is thread-safe: concurrent queries on shared models", "[colli
     const MeshModel<Obb<double>> b(test::random_soup<double>(400, 0.2, 3));
     std::mt19937_64 rng(99);
     std::vector<Transform<double>> poses;
-    for (int i = 0; i < 200; ++i) poses.push_back(near_pose<double>(rng, 2.0));
+    for (int i = 0; i < 200; ++i) poses.push_back(test::near_pose<double>(rng, 2.0));
     std::vector<std::size_t> expected;
     for (const auto& p : poses) expected.push_back(collide(a, Transform<double>(), b, p, {ContactMode::all}).contacts.size());
     std::vector<int> mismatches(4, 0);

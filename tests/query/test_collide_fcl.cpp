@@ -3,6 +3,7 @@
 // FCL's own mistakes are counted and printed with their poses.
 #include "mesh_factory.hpp"
 #include "oracles/exact_mesh_oracle.hpp"
+#include "oracles/fcl_mesh.hpp"
 #include "test_common.hpp"
 
 #include "cdkit/cdkit.hpp"
@@ -20,23 +21,7 @@ using namespace cdkit;
 
 namespace {
 
-TriangleMesh<double> unit_scaled(TriangleMesh<double> m) {
-    Vec3<double> lo = m.vertices[0], hi = m.vertices[0];
-    for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    for (auto& v : m.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
-    return m;
-}
 
-std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> fcl_model(const TriangleMesh<double>& m) {
-    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-    std::vector<fcl::Vector3d> pts(m.vertices.begin(), m.vertices.end());
-    std::vector<fcl::Triangle> tris;
-    for (const auto& t : m.triangles) tris.emplace_back(t[0], t[1], t[2]);
-    model->beginModel();
-    model->addSubModel(pts, tris);
-    model->endModel();
-    return model;
-}
 
 bool fcl_collide(const std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>& a,
                  const std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>& b, const Transform<double>& pose_b) {
@@ -81,9 +66,9 @@ void check_pose(const MeshModel<Obb<double>>& a, const MeshModel<Obb<double>>& b
 
 TEST_CASE("collide agrees with FCL OBBRSS on the bunny, or with the exact oracle where FCL is wrong",
           "[collide][fcl]") {
-    const auto bunny = unit_scaled(load_mesh(test::data_path("bunny.obj")));
+    const auto bunny = test::unit_scaled(load_mesh(test::data_path("bunny.obj")));
     const MeshModel<Obb<double>> m(bunny);
-    const auto f = fcl_model(bunny);
+    const auto f = test::fcl_mesh<fcl::OBBRSSd>(bunny);
     std::mt19937_64 rng(2024);
     std::uniform_real_distribution<double> u(-1, 1);
     Tally tally;
@@ -107,9 +92,9 @@ TEST_CASE("collide agrees with FCL near contact, or with the exact oracle", "[co
     // Bisect along a random direction to the contact distance s*, then query at s* ± 1e-9 and ± 1e-6:
     // the near-touching configurations where tolerances and rounding matter. The gap (≥ 1e-9) is far above
     // the rounding of the transform (~1e-16), so the exact oracle's answer is the right one for cdkit too.
-    const auto bunny = unit_scaled(load_mesh(test::data_path("bunny.obj")));
+    const auto bunny = test::unit_scaled(load_mesh(test::data_path("bunny.obj")));
     const MeshModel<Obb<double>> m(bunny);
-    const auto f = fcl_model(bunny);
+    const auto f = test::fcl_mesh<fcl::OBBRSSd>(bunny);
     std::mt19937_64 rng(77);
     std::uniform_real_distribution<double> u(-1, 1);
     Tally tally;
@@ -143,7 +128,7 @@ TEST_CASE("collide vs FCL on touching configurations", "[collide][fcl]") {
     box.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
                      {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
     const MeshModel<Obb<double>> m(box);
-    const auto f = fcl_model(box);
+    const auto f = test::fcl_mesh<fcl::OBBRSSd>(box);
     Tally tally;
     const std::pair<Vec3<double>, bool> cases[] = {
         {{2, 0, 0}, true},         {{2, 2, 0}, true},  {{2, 2, 2}, true},

@@ -2,6 +2,7 @@
 // seeded proximity poses (bisection to contact, then separated by δ·r). Equal within 1e-9 relative, or the
 // brute force settles the disagreement (cdkit must then equal it).
 #include "mesh_factory.hpp"
+#include "oracles/fcl_mesh.hpp"
 #include "test_common.hpp"
 
 #include "cdkit/cdkit.hpp"
@@ -18,23 +19,7 @@ using namespace cdkit;
 
 namespace {
 
-TriangleMesh<double> unit_scaled_mesh(TriangleMesh<double> m) {
-    Vec3<double> lo = m.vertices[0], hi = m.vertices[0];
-    for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    for (auto& v : m.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
-    return m;
-}
 
-template <class BV> std::shared_ptr<fcl::BVHModel<BV>> fcl_mesh(const TriangleMesh<double>& m) {
-    auto model = std::make_shared<fcl::BVHModel<BV>>();
-    std::vector<fcl::Vector3d> pts(m.vertices.begin(), m.vertices.end());
-    std::vector<fcl::Triangle> tris;
-    for (const auto& t : m.triangles) tris.emplace_back(t[0], t[1], t[2]);
-    model->beginModel();
-    model->addSubModel(pts, tris);
-    model->endModel();
-    return model;
-}
 
 template <class BV> double fcl_distance(const std::shared_ptr<fcl::BVHModel<BV>>& m, const Transform<double>& pose_b) {
     fcl::CollisionObjectd oa(m, fcl::Transform3d::Identity());
@@ -50,11 +35,11 @@ bool close(double x, double y) { return std::abs(x - y) <= 1e-9 * std::max({1.0,
 }  // namespace
 
 TEST_CASE("distance agrees with FCL on the bunny at proximity poses", "[distance][fcl]") {
-    const auto mesh = std::make_shared<const TriangleMesh<double>>(unit_scaled_mesh(load_mesh(test::data_path("bunny.obj"))));
+    const auto mesh = std::make_shared<const TriangleMesh<double>>(test::unit_scaled(load_mesh(test::data_path("bunny.obj"))));
     const MeshModel<Obb<double>> obb(mesh);
     const MeshModel<Aabb<double>> aabb(mesh);
-    const auto rss = fcl_mesh<fcl::RSSd>(*mesh);
-    const auto obbrss = fcl_mesh<fcl::OBBRSSd>(*mesh);
+    const auto rss = test::fcl_mesh<fcl::RSSd>(*mesh);
+    const auto obbrss = test::fcl_mesh<fcl::OBBRSSd>(*mesh);
     double r = 0;
     for (const auto& v : mesh->vertices) r = std::max(r, v.norm());
 

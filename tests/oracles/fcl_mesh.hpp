@@ -1,0 +1,23 @@
+#pragma once
+// FCL's BVHModel of a cdkit mesh, for the FCL comparison tests (FCL headers: keep to few TUs).
+#include "cdkit/core/mesh.hpp"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+
+#include <memory>
+#include <vector>
+
+namespace cdkit::test {
+
+template <class BV> std::shared_ptr<fcl::BVHModel<BV>> fcl_mesh(const TriangleMesh<double>& m) {
+    auto model = std::make_shared<fcl::BVHModel<BV>>();
+    std::vector<fcl::Vector3d> pts(m.vertices.begin(), m.vertices.end());
+    std::vector<fcl::Triangle> tris;
+    for (const auto& t : m.triangles) tris.emplace_back(t[0], t[1], t[2]);
+    model->beginModel();
+    model->addSubModel(pts, tris);
+    model->endModel();
+    return model;
+}
+
+}  // namespace cdkit::test
