@@ -1,5 +1,6 @@
 #pragma once
-/// \file The cdkit methods: one MeshModel<BV> per bounding-volume type in `CdkitBvs`.
+/// \file The cdkit methods: one MeshModel<BV> per bounding-volume type in `CdkitBvs`, then the restricted
+/// boxtrees (`RestrictedBoxtree<double>`, `<float>`), which are not a BV in a Bvh but a tree of their own.
 /// Adding a BV type to the benchmark is one entry in that list.
 
 #include "bench.hpp"
@@ -8,6 +9,7 @@
 #include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/sphere.hpp"
+#include "cdkit/bvh/boxtree_collide.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/query.hpp"
 
@@ -26,21 +28,25 @@ namespace cdbench {
 using CdkitBvs = std::tuple<cdkit::Obb<double>, cdkit::Aabb<double>, cdkit::Obb<float>, cdkit::Aabb<float>,
                             cdkit::Kdop<double, 14>, cdkit::Kdop<double, 18>, cdkit::Kdop<double, 26>,
                             cdkit::BoundingSphere<double>, cdkit::BoundingSphere<float>>;
+/// Float BVs over the double mesh (MeshModel<BV, double>): half the node bytes, the double mesh's answers.
+using CdkitFloatOverDoubleBvs = std::tuple<cdkit::Obb<float>, cdkit::Aabb<float>>;
 
-/// "cdkit_obb_d" for Obb<double>: the BV's own name, lower case, and the scalar's initial.
-template <class BV> [[nodiscard]] std::string cdkit_method_name() {
+/// "cdkit_obb_d" for Obb<double>: the BV's own name, lower case, and the scalar's initial; "_fd" for float
+/// BVs over a double mesh.
+template <class BV, class M = typename BV::Scalar> [[nodiscard]] std::string cdkit_method_name() {
     std::string n = "cdkit_";
     for (const char* c = BV::name; *c; ++c) n += char(std::tolower(static_cast<unsigned char>(*c)));
-    n += std::is_same_v<typename BV::Scalar, float> ? "_f" : "_d";
+    if constexpr (!std::is_same_v<typename BV::Scalar, M>) n += "_fd";
+    else n += std::is_same_v<typename BV::Scalar, float> ? "_f" : "_d";
     return n;
 }
 
-template <class BV> class CdkitMethod final : public Method {
+template <class BV, class M = typename BV::Scalar> class CdkitMethod final : public Method {
 public:
-    using S = typename BV::Scalar;
+    using S = M;
 
     CdkitMethod(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options)
-        : name_(cdkit_method_name<BV>()), model_(build(std::move(mesh), options)) {}
+        : name_(cdkit_method_name<BV, M>()), model_(build(std::move(mesh), options)) {}
 
     const std::string& name() const noexcept override { return name_; }
     const std::string& family() const noexcept override { return family_; }
@@ -70,9 +76,9 @@ private:
     }
     static cdkit::Transform<S> cast(const Pose& p) { return cdkit::Transform<double>(p.R, p.t).template cast<S>(); }
 
-    cdkit::MeshModel<BV> build(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options) {
+    cdkit::MeshModel<BV, M> build(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options) {
         const auto t0 = Clock::now();
-        cdkit::MeshModel<BV> m(mesh, options);
+        cdkit::MeshModel<BV, M> m(mesh, options);
         info_.build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         info_.tree_bytes = m.memory_bytes();
         info_.tree_bytes_note = "MeshModel::memory_bytes()";
@@ -85,13 +91,72 @@ private:
     std::string name_;
     std::string family_ = "cdkit";
     BuildInfo info_;  // filled by build(), which runs in model_'s initialiser: declared before model_
-    cdkit::MeshModel<BV> model_;
+    cdkit::MeshModel<BV, M> model_;
 };
 
-/// Names of all cdkit methods, in CdkitBvs order.
+/// The restricted boxtree of one scalar type (default build options: implied-box SAH split, one-child
+/// nodes where a face cuts off ≥ 25 % of a box's area).
+template <class S> class BoxtreeMethod final : public Method {
+public:
+    static std::string method_name() { return std::is_same_v<S, float> ? "cdkit_boxtree_f" : "cdkit_boxtree_d"; }
+
+    explicit BoxtreeMethod(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh)
+        : name_(method_name()), tree_(build(std::move(mesh))) {}
+
+    const std::string& name() const noexcept override { return name_; }
+    const std::string& family() const noexcept override { return family_; }
+    const BuildInfo& build_info() const noexcept override { return info_; }
+
+    Outcome probe(const Pose& pose, Mode mode) override {
+        const auto r = cdkit::collide(tree_, cdkit::Transform<S>::identity(), tree_, cast(pose), request(mode));
+        return {r.colliding, r.contacts.size(), r.stats.bv_tests, r.stats.primitive_tests};
+    }
+
+    Timed time(const Pose& pose, Mode mode, std::size_t reps) override {
+        const cdkit::Transform<S> pa = cdkit::Transform<S>::identity();
+        const cdkit::Transform<S> pb = cast(pose);
+        const cdkit::CollisionRequest req = request(mode);
+        return time_batch(reps, [&] {
+            const auto r = cdkit::collide(tree_, pa, tree_, pb, req);
+            return std::pair<bool, std::size_t>(r.colliding, r.contacts.size());
+        });
+    }
+
+private:
+    static cdkit::CollisionRequest request(Mode mode) noexcept {
+        cdkit::CollisionRequest r;
+        r.mode = mode == Mode::first ? cdkit::ContactMode::first : cdkit::ContactMode::all;
+        return r;
+    }
+    static cdkit::Transform<S> cast(const Pose& p) { return cdkit::Transform<double>(p.R, p.t).template cast<S>(); }
+
+    cdkit::RestrictedBoxtree<S> build(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh) {
+        const auto t0 = Clock::now();
+        cdkit::RestrictedBoxtree<S> tree(std::move(mesh));
+        info_.build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        info_.tree_bytes = tree.memory_bytes();
+        info_.tree_bytes_note = "RestrictedBoxtree::memory_bytes()";
+        info_.mesh_bytes = tree.mesh().memory_bytes();
+        info_.nodes = tree.nodes().size();
+        info_.single_precision = std::is_same_v<S, float>;
+        return tree;
+    }
+
+    std::string name_;
+    std::string family_ = "cdkit";
+    BuildInfo info_;  // filled by build(), which runs in tree_'s initialiser: declared before tree_
+    cdkit::RestrictedBoxtree<S> tree_;
+};
+
+/// Names of all cdkit methods, in CdkitBvs order, then the float-over-double models, then the boxtrees.
 [[nodiscard]] inline std::vector<std::string> cdkit_method_names() {
-    return std::apply([](auto... bv) { return std::vector<std::string>{cdkit_method_name<decltype(bv)>()...}; },
-                      CdkitBvs{});
+    auto names = std::apply([](auto... bv) { return std::vector<std::string>{cdkit_method_name<decltype(bv)>()...}; },
+                            CdkitBvs{});
+    std::apply([&](auto... bv) { (names.push_back(cdkit_method_name<decltype(bv), double>()), ...); },
+               CdkitFloatOverDoubleBvs{});
+    names.push_back(BoxtreeMethod<double>::method_name());
+    names.push_back(BoxtreeMethod<float>::method_name());
+    return names;
 }
 
 /// Builds the cdkit methods for which `wanted(name)` is true, on the (already normalised) double mesh;
@@ -108,6 +173,12 @@ private:
         else out.push_back(std::make_unique<CdkitMethod<BV>>(md, options));
     };
     std::apply([&](auto... bv) { (add(static_cast<decltype(bv)*>(nullptr)), ...); }, CdkitBvs{});
+    auto add_over_double = [&]<class BV>(BV*) {
+        if (wanted(cdkit_method_name<BV, double>())) out.push_back(std::make_unique<CdkitMethod<BV, double>>(md, options));
+    };
+    std::apply([&](auto... bv) { (add_over_double(static_cast<decltype(bv)*>(nullptr)), ...); }, CdkitFloatOverDoubleBvs{});
+    if (wanted(BoxtreeMethod<double>::method_name())) out.push_back(std::make_unique<BoxtreeMethod<double>>(md));
+    if (wanted(BoxtreeMethod<float>::method_name())) out.push_back(std::make_unique<BoxtreeMethod<float>>(mf));
     return out;
 }
 

@@ -7,10 +7,13 @@ Reads DIR/results.json (written by cdkit_bench, together with the CSV files) and
   <mesh>_<protocol>.png   per mesh and protocol: median µs per query against the distance class (log y), and
                           the ratio median(peer) / median(method) (above 1: faster than the peer), one row
                           of panels per contact mode
+  accuracy_speed.png      P6: time per triangle test against its error rate (if the accuracy benchmark wrote
+                          DIR/accuracy_speed.csv)
   report.md               machine, configuration, models, summary tables, correctness, and the plots
 Uses only the standard library and matplotlib (Agg backend: no display needed).
 """
 
+import csv
 import json
 import math
 import os
@@ -137,6 +140,65 @@ def p1_table_distances(ds):
     return [d for d in ds if abs(d * 10 - round(d * 10)) < 1e-9]
 
 
+def accuracy_table(out_dir):
+    """Per-family disagreements with the exact oracle, from the accuracy benchmark's accuracy.csv."""
+    path = os.path.join(out_dir, "accuracy.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path, encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    families = list(dict.fromkeys(r["family"] for r in rows))
+    cell = {(r["family"], r["method"]): r for r in rows}
+    md = ["## Triangle-test accuracy (hard-case corpus)", "",
+          "Disagreements with CGAL's exact kernel per generator family (`cdkit_bench_accuracy`, see "
+          "`docs/robustness.md`); `outside_range` holds the pairs with a subnormal coordinate, which cdkit "
+          "decides in its wide-integer stage.", "",
+          "| family | cases | " + " | ".join(methods) + " |", "|---|---:|" + "---:|" * len(methods)]
+    for fam in families:
+        first = cell[(fam, methods[0])]
+        cells = []
+        for m in methods:
+            r = cell[(fam, m)]
+            wrong = int(r["disagreements"])
+            cells.append("**0**" if wrong == 0 else f"{wrong} ({100 * float(r['rate']):.2g}%)")
+        md.append(f"| {fam} | {int(first['cases'])} | " + " | ".join(cells) + " |")
+    return md + [""]
+
+
+def plot_speed_vs_error(out_dir):
+    """P6: time per triangle test (x) against its disagreement rate with the exact oracle (y), one point per
+    method, from the accuracy benchmark's accuracy_speed.csv. Exact methods (rate 0) sit on the floor."""
+    path = os.path.join(out_dir, "accuracy_speed.csv")
+    if not os.path.exists(path):
+        return None, []
+    with open(path, encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    floor = 1e-7
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    table = ["| method | ns / test | disagreement rate |", "|---|---:|---:|"]
+    for i, r in enumerate(rows):
+        ns, rate = float(r["ns_per_test"]), float(r["rate"])
+        colour = "tab:green" if r["method"].startswith("fcl") else EXTRA_COLOURS[i % len(EXTRA_COLOURS)]
+        ax.scatter([ns], [max(rate, floor)], color=colour, marker="^" if rate == 0 else "o", s=50, zorder=3)
+        ax.annotate(r["method"] + (" (0 wrong)" if rate == 0 else ""), (ns, max(rate, floor)),
+                    textcoords="offset points", xytext=(6, 5 if i % 2 == 0 else -12), fontsize=8)
+        table.append(f"| {r['method']} | {ns:.0f} | {int(r['disagreements'])} of {int(r['cases'])} ({100 * rate:.3g}%) |")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_ylim(floor / 2, 1)
+    xs = [float(r["ns_per_test"]) for r in rows]
+    ax.set_xlim(min(xs) / 1.5, max(xs) * 3)  # room for the labels
+    ax.set_xlabel("ns per triangle–triangle test (hard-case corpus sample)")
+    ax.set_ylabel("disagreement rate vs exact oracle")
+    ax.set_title("P6: time against error, triangle tests")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "accuracy_speed.png"), dpi=110)
+    plt.close(fig)
+    return "accuracy_speed.png", table
+
+
 def main():
     out_dir = sys.argv[1] if len(sys.argv) > 1 else "build/report"
     with open(os.path.join(out_dir, "results.json"), encoding="utf-8") as f:
@@ -237,6 +299,13 @@ def main():
     if bad:
         md += ["**Warning: some timed batches answered unlike their untimed probe:** " +
                ", ".join(f"{c['mesh']} {c['protocol']} {c['mode']} {c['method']}" for c in bad), ""]
+
+    md += accuracy_table(out_dir)
+    png, table = plot_speed_vs_error(out_dir)
+    if png:
+        md += ["## P6 time against error (triangle tests)", "",
+               "From `cdkit_bench_accuracy` (hard-case corpus against CGAL's exact kernel; see "
+               "`docs/robustness.md`).", "", f"![P6]({png})", ""] + table + [""]
 
     with open(os.path.join(out_dir, "report.md"), "w", encoding="utf-8") as f:
         f.write("\n".join(md) + "\n")

@@ -3,9 +3,11 @@
 /// one ulp, mirrored copies touching or one ulp apart) for cdkit collide, FCL's mesh collide and the exact
 /// brute force. Prints tables and writes CSV. See docs/robustness.md.
 ///
-/// Usage: cdkit_bench_accuracy [--cases N] [--seed S] [--csv FILE] [--mesh-csv FILE] [--no-mesh]
-///        [--max-mesh-triangles N]
-/// --cases is the total number of triangle-pair cases over all families (default 200000).
+/// Usage: cdkit_bench_accuracy [--cases N] [--seed S] [--csv FILE] [--mesh-csv FILE] [--speed-csv FILE]
+///        [--no-mesh] [--max-mesh-triangles N]
+/// --cases is the total number of triangle-pair cases over all families (default 200000). P6: each method
+/// is also timed on one stored sample of the corpus (all families), and time per test is written beside its
+/// disagreement rate (--speed-csv, default accuracy_speed.csv) for the time-against-error plot.
 
 #include "hard_cases.hpp"
 #include "mesh_factory.hpp"
@@ -38,6 +40,7 @@ struct Options {
     std::uint64_t seed = 20261122;
     std::string csv = "accuracy_triangles.csv";
     std::string mesh_csv = "accuracy_meshes.csv";
+    std::string speed_csv = "accuracy_speed.csv";
     bool mesh = true;
     std::size_t max_mesh_triangles = 4000;
 };
@@ -57,10 +60,12 @@ Options parse(int argc, char** argv) {
         else if (a == "--seed") o.seed = std::strtoull(value().c_str(), nullptr, 10);
         else if (a == "--csv") o.csv = value();
         else if (a == "--mesh-csv") o.mesh_csv = value();
+        else if (a == "--speed-csv") o.speed_csv = value();
         else if (a == "--no-mesh") o.mesh = false;
         else if (a == "--max-mesh-triangles") o.max_mesh_triangles = std::strtoull(value().c_str(), nullptr, 10);
         else {
-            std::cerr << "usage: cdkit_bench_accuracy [--cases N] [--seed S] [--csv FILE] [--mesh-csv FILE] [--no-mesh]"
+            std::cerr << "usage: cdkit_bench_accuracy [--cases N] [--seed S] [--csv FILE] [--mesh-csv FILE]"
+                         " [--speed-csv FILE] [--no-mesh]"
                          " [--max-mesh-triangles N]\n";
             std::exit(a == "--help" || a == "-h" ? 0 : 2);
         }
@@ -88,9 +93,10 @@ template <class S> Tri3 widen(const std::array<Vec3<S>, 3>& t) {
     return {t[0].template cast<double>(), t[1].template cast<double>(), t[2].template cast<double>()};
 }
 
-/// Whether every nonzero coordinate lies in the predicates' documented exactness range [2^-280, 2^280]
-/// (cdkit/core/predicates.hpp). The corpus has cases outside it: a ±1 ulp step from a zero coordinate is
-/// a subnormal number. Those are tallied apart, in the row "outside_range*".
+/// Whether every nonzero coordinate lies in the range [2^-280, 2^280] of the predicates' floating-point
+/// stages (cdkit/core/predicates.hpp). The corpus has cases outside it: a ±1 ulp step from a zero
+/// coordinate is a subnormal number. cdkit decides those in its wide-integer stage; they are tallied
+/// apart, in the row "outside_range*", to show what floating point alone does there.
 bool in_range(const Pair& x) {
     for (const Tri* t : {&x.p, &x.q})
         for (const V& v : *t)
@@ -123,7 +129,7 @@ void run_case(const Pair& x, Tally& t) {
         if (got[m] != want) {
             ++t.wrong[m];
             t.false_pos[m] += got[m];
-            if ((m == exact_double || m == exact_float) && in_range(x)) {  // the target is zero: print a reproducer
+            if (m == exact_double || m == exact_float) {  // the target is zero: print a reproducer
                 std::printf("DISAGREEMENT %s exact=%d got=%d\n", method_name(m), int(want), int(got[m]));
                 const Tri3& a = m == exact_double ? p : pf;
                 const Tri3& b = m == exact_double ? q : qf;
@@ -181,7 +187,8 @@ void print_triangles(const std::vector<Tally>& tallies, const Options& o) {
     }
     row("ALL (in range)", all);
     row("outside_range*", tallies[kFamilies]);
-    std::printf("* a subnormal coordinate (outside the predicates' documented range), from any family; not in ALL\n");
+    std::printf("* a subnormal coordinate (outside the floating-point stages' range: cdkit's wide-integer stage decides),"
+                " from any family; not in ALL\n");
     std::ofstream csv(o.csv);
     csv << "family,method,cases,oracle_hits,disagreements,false_positives,false_negatives,rate\n";
     auto csv_rows = [&](const std::string& name, const Tally& t) {
@@ -196,6 +203,60 @@ void print_triangles(const std::vector<Tally>& tallies, const Options& o) {
     csv_rows("ALL", all);
     csv_rows("outside_range", tallies[kFamilies]);
     std::printf("(seed %llu; CSV: %s)\n", static_cast<unsigned long long>(o.seed), o.csv.c_str());
+}
+
+// ---- P6: time per test against the disagreement rate --------------------------------------------------
+
+/// Times every method on one sample of the corpus (the same pairs for all, every family, float methods on
+/// the float-rounded pairs): nanoseconds per test as the median of 7 passes, each pass the whole sample.
+void time_methods(const std::vector<Tally>& tallies, const Options& o) {
+    constexpr int kPerFamily = 4000, kPasses = 7;
+    std::vector<Tri3> ps, qs;
+    std::vector<std::array<Vec3<float>, 3>> pf, qf;
+    for (int f = 0; f < kFamilies; ++f) {
+        Rng rng(o.seed * 7919ull + std::uint64_t(f));
+        for (int i = 0; i < kPerFamily; ++i) {
+            const Pair x = f == static_cast<int>(Family::orders36) ? reorder(orders36_base(rng), i % 72) : generate(f, rng);
+            const auto xf = tri::as<float>(x);
+            ps.push_back(tri3(x.p)), qs.push_back(tri3(x.q)), pf.push_back(xf.p), qf.push_back(xf.q);
+        }
+    }
+    auto test = [&](int m, std::size_t i) {
+        const Tri3 &p = ps[i], &q = qs[i];
+        const auto &a = pf[i], &b = qf[i];
+        switch (m) {
+        case exact_double: return triangles_intersect(p[0], p[1], p[2], q[0], q[1], q[2]);
+        case fp_double: return triangles_intersect(p[0], p[1], p[2], q[0], q[1], q[2], PredicateMode::floating_point);
+        case exact_float: return triangles_intersect(a[0], a[1], a[2], b[0], b[1], b[2]);
+        case fp_float: return triangles_intersect(a[0], a[1], a[2], b[0], b[1], b[2], PredicateMode::floating_point);
+        default: return fcl_triangles_intersect(p, q);
+        }
+    };
+    Tally all;
+    for (const Tally& t : tallies) {
+        all.cases += t.cases;
+        for (int m = 0; m < kMethods; ++m) all.wrong[m] += t.wrong[m];
+    }
+    std::printf("\nP6 time against error: %zu sampled pairs, median of %d passes\n", ps.size(), kPasses);
+    std::printf("%-22s %10s %16s\n", "method", "ns/test", "disagreement %");
+    std::ofstream csv(o.speed_csv);
+    csv << "method,ns_per_test,cases,disagreements,rate\n";
+    long long sink = 0;
+    for (int m = 0; m < kMethods; ++m) {
+        std::vector<double> ns;
+        for (int pass = 0; pass < kPasses; ++pass) {
+            const auto t0 = std::chrono::steady_clock::now();
+            for (std::size_t i = 0; i < ps.size(); ++i) sink += test(m, i);
+            ns.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count() /
+                         double(ps.size()));
+        }
+        std::nth_element(ns.begin(), ns.begin() + kPasses / 2, ns.end());
+        const double rate = double(all.wrong[m]) / double(std::max(1LL, all.cases));
+        std::printf("%-22s %10.1f %16.4g\n", method_name(m), ns[kPasses / 2], 100 * rate);
+        csv << method_name(m) << ',' << ns[kPasses / 2] << ',' << all.cases << ',' << all.wrong[m] << ',' << rate << '\n';
+    }
+    std::printf("(all %lld corpus cases, out-of-range ones included; %lld hits in the timing passes; CSV: %s)\n",
+                all.cases, sink, o.speed_csv.c_str());
 }
 
 // ---- meshes -----------------------------------------------------------------------------------------
@@ -233,7 +294,7 @@ std::vector<MeshCase> mesh_cases(const TriangleMesh<double>& a) {
     TriangleMesh<double> apart = mirror;  // then 1 ulp apart: B's x <= 1 - 2^-53 < 1 <= A's x
     for (auto& v : apart.vertices) v.x() = std::nextafter(v.x(), -inf);
     out.push_back({"mirrored_1ulp_apart", a, apart});
-    // Outside the predicates' documented range: mirrored in x = 0, one subnormal apart.
+    // Outside the floating-point stages' range (the wide-integer stage decides): mirrored in x = 0, one subnormal apart.
     TriangleMesh<double> a0 = a, sub = a;
     for (auto& v : a0.vertices) v.x() -= 1.0;  // exact on [1, 3]: A moved to x in [0, 2]
     for (auto& v : sub.vertices) v.x() = std::nextafter(-(v.x() - 1.0), -inf);
@@ -325,7 +386,7 @@ void run_meshes(const Options& o) {
         csv << r.mesh << ',' << tris << ',' << r.config << ',' << r.method << ',' << r.exact << ',' << r.reported << ','
             << r.missed << ',' << r.extra << ',' << r.exact_colliding << ',' << r.colliding << ',' << r.ms << '\n';
     }
-    std::printf("(* outside the predicates' documented range [2^-280, 2^280]: a subnormal coordinate; CSV: %s)\n",
+    std::printf("(* outside the floating-point stages' range [2^-280, 2^280]: a subnormal coordinate; CSV: %s)\n",
                 o.mesh_csv.c_str());
 }
 
@@ -338,9 +399,10 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(o.seed));
     const auto tallies = run_triangles(o);
     print_triangles(tallies, o);
+    time_methods(tallies, o);
     if (o.mesh) run_meshes(o);
     std::printf("\ntotal %.1f s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     long long wrong = 0;
-    for (int f = 0; f < kFamilies; ++f) wrong += tallies[f].wrong[exact_double] + tallies[f].wrong[exact_float];
+    for (int f = 0; f <= kFamilies; ++f) wrong += tallies[f].wrong[exact_double] + tallies[f].wrong[exact_float];
     return wrong == 0 ? 0 : 1;  // cdkit's default (exact) test must never disagree
 }

@@ -78,11 +78,12 @@ template <class S> inline void distance_to_world(const Transform<S>& pose_a, Dis
 /// smallest distance between a triangle of A and a triangle of B, with a closest pair of points (world
 /// frame) and the two triangles. 0 with a witness point when the meshes intersect. `request` trades
 /// accuracy for speed (see DistanceRequest). BV: a box type with distance_lower_bound (Aabb, Obb).
-template <class BV>
-[[nodiscard]] DistanceResult<typename BV::Scalar> distance(const MeshModel<BV>& a, const Transform<typename BV::Scalar>& pose_a,
-                                                           const MeshModel<BV>& b, const Transform<typename BV::Scalar>& pose_b,
-                                                           const DistanceRequest<typename BV::Scalar>& request = {}) {
-    using S = typename BV::Scalar;
+/// M is the meshes' scalar; with float BVs over double meshes the bounds are computed in float (see MeshModel).
+template <class BV, class M>
+[[nodiscard]] DistanceResult<M> distance(const MeshModel<BV, M>& a, const std::type_identity_t<Transform<M>>& pose_a,
+                                         const MeshModel<BV, M>& b, const std::type_identity_t<Transform<M>>& pose_b,
+                                         const DistanceRequest<M>& request = {}) {
+    using S = M;
     DistanceResult<S> out;
     if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
         out.status = QueryStatus::invalid_pose;
@@ -90,7 +91,7 @@ template <class BV>
     }
     if (a.bvh().empty() || b.bvh().empty()) return out;
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
-    const auto rel = BV::relative(b_to_a);
+    const auto rel = BV::relative(b_to_a.template cast<typename BV::Scalar>());
     const auto& ma = a.mesh();
     const auto& mb = b.mesh();
     const auto& order_a = a.bvh().triangle_order();
@@ -123,12 +124,13 @@ template <class BV>
         // nearer one is processed next.
         Item c0, c1;
         const S th = threshold();
+        const auto bv_th = static_cast<typename BV::Scalar>(th);  // only an early-out hint to the bound
         if (yl || (!xl && x.bv.size() >= y.bv.size())) {
-            c0 = {x.first, it.b, distance_lower_bound(na[x.first].bv, y.bv, rel, th)};
-            c1 = {x.first + 1, it.b, distance_lower_bound(na[x.first + 1].bv, y.bv, rel, th)};
+            c0 = {x.first, it.b, distance_lower_bound(na[x.first].bv, y.bv, rel, bv_th)};
+            c1 = {x.first + 1, it.b, distance_lower_bound(na[x.first + 1].bv, y.bv, rel, bv_th)};
         } else {
-            c0 = {it.a, y.first, distance_lower_bound(x.bv, nb[y.first].bv, rel, th)};
-            c1 = {it.a, y.first + 1, distance_lower_bound(x.bv, nb[y.first + 1].bv, rel, th)};
+            c0 = {it.a, y.first, distance_lower_bound(x.bv, nb[y.first].bv, rel, bv_th)};
+            c1 = {it.a, y.first + 1, distance_lower_bound(x.bv, nb[y.first + 1].bv, rel, bv_th)};
         }
         out.stats.bv_tests += 2;
         if (c1.bound < c0.bound) std::swap(c0, c1);

@@ -10,6 +10,7 @@
 #include "cdkit/narrowphase/triangle.hpp"
 
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace cdkit {
@@ -94,18 +95,19 @@ template <class S> [[nodiscard]] inline bool keep_going(const CollisionRequest& 
 /// triangle of A intersects any triangle of B (touching counts), with one witness (ContactMode::first) or
 /// all intersecting pairs (ContactMode::all, in traversal order). Contacts are in the world frame.
 /// Poses that are not rigid motions (see pose_is_usable) give status invalid_pose and no answer.
-template <class BV>
-[[nodiscard]] CollisionResult<typename BV::Scalar> collide(const MeshModel<BV>& a, const Transform<typename BV::Scalar>& pose_a,
-                                                           const MeshModel<BV>& b, const Transform<typename BV::Scalar>& pose_b,
-                                                           const CollisionRequest& request = {}) {
-    using S = typename BV::Scalar;
+/// M is the meshes' scalar; with float BVs over double meshes the BV tests run in float (see MeshModel).
+template <class BV, class M>
+[[nodiscard]] CollisionResult<M> collide(const MeshModel<BV, M>& a, const std::type_identity_t<Transform<M>>& pose_a,
+                                         const MeshModel<BV, M>& b, const std::type_identity_t<Transform<M>>& pose_b,
+                                         const CollisionRequest& request = {}) {
+    using S = M;
     CollisionResult<S> out;
     if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
         out.status = QueryStatus::invalid_pose;
         return out;
     }
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
-    const auto rel = BV::relative(b_to_a);
+    const auto rel = BV::relative(b_to_a.template cast<typename BV::Scalar>());
     const auto& ma = a.mesh();
     const auto& mb = b.mesh();
     const auto& order_a = a.bvh().triangle_order();

@@ -5,6 +5,7 @@ extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -27,7 +28,10 @@ HullData convex_hull(const std::vector<Vec3<double>>& points) {
     qhT qh_storage;
     qhT* qh = &qh_storage;
     qh_zero(qh, err);
-    char options[] = "qhull Qt";  // triangulated output
+    // Default options: coplanar facets are merged (Qhull's 'C-0' pre-merge in 3-d), so a box has six
+    // quadrilateral faces. The faces are kept as polygons (closest-feature tracking needs real faces and
+    // edges) and fan-triangulated for triangles().
+    char options[] = "qhull";
     int code = qh_new_qhull(qh, 3, int(points.size()), coords.data(), False, options, nullptr, err);
     HullData out;
     if (code == 0) {
@@ -43,27 +47,28 @@ HullData convex_hull(const std::vector<Vec3<double>>& points) {
         };
         facetT* facet;
         FORALLfacets {
-            std::array<std::uint32_t, 3> t{};
-            int k = 0;
+            // The facet's vertices in cyclic order around it (qh_facet3vertex walks the ridges).
+            setT* loop_set = qh_facet3vertex(qh, facet);
+            std::vector<std::uint32_t> loop;
             vertexT *vertex, **vertexp;
-            FOREACHvertex_(facet->vertices) {
-                if (k < 3) t[std::size_t(k)] = index_of(vertex);
-                ++k;
-            }
-            if (k != 3) continue;  // "Qt" makes all facets simplicial; be defensive anyway
-            // Orient outward with the facet's own normal.
+            FOREACHvertex_(loop_set) loop.push_back(index_of(vertex));
+            qh_settempfree(qh, &loop_set);
+            if (loop.size() < 3) continue;
+            // Orient the loop counter-clockwise seen from outside, with the facet's own normal.
             Vec3<double> n(facet->normal[0], facet->normal[1], facet->normal[2]);
-            const auto& a = out.vertices[t[0]];
-            Vec3<double> m = (out.vertices[t[1]] - a).cross(out.vertices[t[2]] - a);
-            if (m.dot(n) < 0) std::swap(t[1], t[2]);
-            out.triangles.push_back(t);
+            Vec3<double> newell = Vec3<double>::Zero();
+            for (std::size_t k = 0; k < loop.size(); ++k)
+                newell += out.vertices[loop[k]].cross(out.vertices[loop[(k + 1) % loop.size()]]);
+            if (newell.dot(n) < 0) std::reverse(loop.begin(), loop.end());
+            for (std::size_t k = 1; k + 1 < loop.size(); ++k) out.triangles.push_back({loop[0], loop[k], loop[k + 1]});
+            out.faces.push_back(std::move(loop));
         }
     }
     qh_freeqhull(qh, !qh_ALL);
     int curlong = 0, totlong = 0;
     qh_memfreeshort(qh, &curlong, &totlong);
     if (err) std::fclose(err);
-    if (code != 0 || out.triangles.size() < 4)
+    if (code != 0 || out.triangles.size() < 4 || out.faces.size() < 4)
         throw Error(src, "point set",
                     "degenerate: the points are coplanar, collinear or coincident (no 3-D hull)");
     return out;

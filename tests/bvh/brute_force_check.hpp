@@ -33,9 +33,9 @@ template <class S> Transform<S> near_pose(std::mt19937_64& rng, double reach) {
 
 /// Checks collide() on the two models against brute force over `poses` random poses; returns the number of
 /// colliding poses (the caller checks the hit rate).
-template <class BV>
-int collide_equals_brute_force(const MeshModel<BV>& a, const MeshModel<BV>& b, int poses, double reach, unsigned seed) {
-    using S = typename BV::Scalar;
+template <class BV, class M>
+int collide_equals_brute_force(const MeshModel<BV, M>& a, const MeshModel<BV, M>& b, int poses, double reach, unsigned seed) {
+    using S = M;
     std::mt19937_64 rng(seed);
     int hits = 0;
     CollisionRequest all;

@@ -7,6 +7,8 @@
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/sphere.hpp"
 
+#include <cstring>
+
 using namespace cdkit;
 
 TEMPLATE_TEST_CASE("SAH and PCA-volume builds keep the invariants", "[bvh][build]", Aabb<float>, Aabb<double>,
@@ -71,4 +73,49 @@ TEST_CASE("SAH lowers the summed node area", "[bvh][build]") {
     const double median_area = summed_area(build_bvh<Aabb<double>>(m));
     const double sah_area = summed_area(build_bvh<Aabb<double>>(m, sah));
     CHECK(sah_area < median_area);
+}
+
+namespace {
+/// Whether two trees have the same structure, BVs and leaves, walking both from the root (their node
+/// layouts may differ).
+template <class BV> bool same_tree(const Bvh<BV>& a, const Bvh<BV>& b, std::size_t i, std::size_t j) {
+    const auto& na = a.nodes()[i];
+    const auto& nb = b.nodes()[j];
+    if (na.is_leaf() != nb.is_leaf()) return false;
+    if (std::memcmp(&na.bv, &nb.bv, sizeof(BV)) != 0) return false;  // bit for bit
+    if (na.is_leaf()) return na.first == nb.first && na.count == nb.count;
+    return same_tree(a, b, na.first, nb.first) && same_tree(a, b, na.first + 1, nb.first + 1);
+}
+}  // namespace
+
+TEMPLATE_TEST_CASE("parallel build gives the sequential tree", "[bvh][build]", Aabb<double>, Obb<double>, Obb<float>,
+                   (Kdop<double, 14>)) {
+    using BV = TestType;
+    using S = typename BV::Scalar;
+    // A soup over a sphere, far from the origin, so Obb's precomputed moments also meet their fallback.
+    TriangleMesh<S> m = test::uv_sphere<S>(S(1), test::scaled(60, 12), test::scaled(80, 16));
+    const TriangleMesh<S> soup = test::random_soup<S>(test::scaled(2000, 300), S(0.02), 5);
+    const Index base = Index(m.vertices.size());
+    for (const auto& v : soup.vertices) m.vertices.push_back(v);
+    for (const auto& t : soup.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    for (auto& v : m.vertices) v += Vec3<S>(S(1e3), S(-2e3), S(5e2));
+    for (SplitStrategy split : {SplitStrategy::median, SplitStrategy::sah, SplitStrategy::mean})
+        for (std::uint32_t leaf : {1u, 3u}) {
+            BuildOptions seq;
+            seq.split = split;
+            seq.max_leaf_triangles = leaf;
+            seq.parallel = false;
+            BuildOptions par = seq;
+            par.parallel = true;
+            par.parallel_min_triangles = 64;  // the parallel path on a test-sized mesh
+            const auto a = build_bvh<BV>(m, seq);
+            const auto b = build_bvh<BV>(m, par);
+            INFO("split " << int(split) << ", leaf " << leaf);
+            REQUIRE(a.nodes().size() == b.nodes().size());
+            REQUIRE(a.depth() == b.depth());
+            REQUIRE(a.triangle_order() == b.triangle_order());
+            REQUIRE(same_tree(a, b, 0, 0));
+            const MeshModel<BV> model(m, par);
+            REQUIRE_NOTHROW(model.validate());
+        }
 }

@@ -304,6 +304,82 @@ TEST_CASE("GJK warm start gives the same answer with no more iterations", "[gjk]
     CHECK(warm_it <= cold_it);
 }
 
+TEST_CASE("GJK warm start from stored support points: exact near contact, guarded against other shapes",
+          "[gjk][warm_start]") {
+    std::mt19937_64 rng(17);
+    ConvexPolyhedron<double> a(random_points(rng, 20, 1.0)), b(random_points(rng, 200, 0.8)),
+        other(random_points(rng, 60, 0.5));
+    Cylinder<double> cyl(0.4, 0.5);
+    Capsule<double> cap(0.2, 0.4);
+    const int frames = test::scaled(600, 60);
+    // Coherent paths through near contact and overlap: B moved along the normal to a scheduled gap. Warm
+    // and cold distances agree to 1e-9 relative, plus `abs_tol`: on a cylinder's rim GJK (cold or warm) stops
+    // on its no-progress floor after ~30 iterations, up to ~2e-10 absolute from the other start's answer.
+    auto path = [&](const auto& sa, const auto& sb, double abs_tol, long& checked, long& hits, long& bad) {
+        GjkCache<double> dcache, bcache;
+        Transform<double> pa, pb;
+        for (int f = 0; f < frames; ++f) {
+            pa.R = Eigen::AngleAxisd(0.009 * f, Vec3<double>(1, 2, 3).normalized()).toRotationMatrix();
+            pb.R = Eigen::AngleAxisd(0.012 * f, Vec3<double>(-1, 2, 0.5).normalized()).toRotationMatrix();
+            pb.t = 3.0 * Vec3<double>(std::cos(0.005 * f), std::sin(0.005 * f), 0.1);
+            const double gap = (f % 3 == 2) ? -1e-3 : std::pow(10.0, -2.0 - 3.0 * (0.5 + 0.5 * std::sin(0.05 * f)));
+            const auto d0 = gjk_distance(sa, pa, sb, pb);
+            if (d0.status != GjkStatus::separated) continue;
+            pb.t += (gap - d0.distance) * d0.normal;
+            const auto cold = gjk_distance(sa, pa, sb, pb);
+            const auto warm = gjk_distance(sa, pa, sb, pb, &dcache);
+            const auto wb = gjk_intersect(sa, pa, sb, pb, &bcache);
+            ++checked;
+            hits += cold.colliding();
+            const bool wrong_bool = warm.colliding() != cold.colliding() || wb.colliding() != cold.colliding();
+            const bool wrong_dist = !cold.colliding() &&
+                                    std::abs(warm.distance - cold.distance) > 1e-9 * cold.distance + abs_tol;
+            bad += wrong_bool || wrong_dist;
+        }
+    };
+    long checked = 0, hits = 0, bad = 0;
+    path(a, b, 1e-14, checked, hits, bad);
+    path(a, cyl, 1e-9, checked, hits, bad);
+    path(cap, b, 1e-14, checked, hits, bad);
+    CHECK(bad == 0);
+    CHECK(hits > checked / 5);
+    CHECK(hits < checked / 2);
+    // One cache used for two different shape pairs in turn: the stored points of one must never be taken
+    // for the other (answers equal the cold ones).
+    GjkCache<double> shared;
+    int wrong = 0;
+    for (int i = 0; i < test::scaled(400, 40); ++i) {
+        const Transform<double> p = random_pose(rng, 1.2);
+        const ConvexPolyhedron<double>& bb = (i % 2) ? b : other;
+        const auto cold = gjk_distance(a, Transform<double>{}, bb, p);
+        const auto warm = gjk_distance(a, Transform<double>{}, bb, p, &shared);
+        if (cold.colliding() != warm.colliding()) ++wrong;
+        else if (!cold.colliding() && std::abs(cold.distance - warm.distance) > 1e-9 * cold.distance + 1e-14) ++wrong;
+        if (gjk_intersect(a, Transform<double>{}, bb, p, &shared).colliding() != cold.colliding()) ++wrong;
+    }
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("GJK boolean early exit returns the extreme points of a separating plane", "[gjk]") {
+    std::mt19937_64 rng(29);
+    ConvexPolyhedron<double> hull(random_points(rng, 100, 0.5));
+    Capsule<double> cap(0.1, 0.3);
+    int separated = 0, bad = 0;
+    for (int i = 0; i < test::scaled(500, 50); ++i) {
+        const Transform<double> pa = random_pose(rng, 0.2), pb = random_pose(rng, 1.5);
+        const auto r = gjk_intersect(hull, pa, cap, pb);
+        if (r.status != GjkStatus::separated) continue;
+        ++separated;
+        const Vec3<double> n = r.normal;  // A towards B
+        const double ha = n.dot(pa * Vec3<double>(hull.support(pa.R.transpose() * n)));
+        const double hb = n.dot(pb * Vec3<double>(cap.support(pb.R.transpose() * Vec3<double>(-n))));
+        if (std::abs(n.dot(r.point_a) - ha) > 1e-12 || std::abs(n.dot(r.point_b) - hb) > 1e-12) ++bad;
+        if (!(n.dot(r.point_b) > n.dot(r.point_a))) ++bad;
+    }
+    CHECK(bad == 0);
+    CHECK(separated > test::scaled(500, 50) / 10);
+}
+
 TEST_CASE("GJK queries are thread-safe on shared shapes", "[gjk][concurrency]") {
     std::mt19937_64 rng(8);
     ConvexPolyhedron<double> a(random_points(rng, 400, 1.0));

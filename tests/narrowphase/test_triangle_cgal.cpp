@@ -372,3 +372,157 @@ TEMPLATE_TEST_CASE("triangle_intersection: witness points against CGAL's exact i
     CHECK(worst_end <= slack);
     CHECK(worst_diam <= 2 * slack);
 }
+
+// ---- outside the floating-point stages' range: subnormal and huge coordinates ------------------------
+
+namespace {
+
+/// A double of any finite magnitude: random significand, binary exponent in [lo, hi] (ldexp rounds it into
+/// the subnormals below 2^-1022), sometimes zero.
+double any_magnitude(tri::Rng& r, int lo, int hi) { return r.coin(0.1) ? 0.0 : random_magnitude(r, lo, hi); }
+
+/// Exact orientation signs in rational arithmetic straight from the doubles (GMP through CGAL::Gmpq): the
+/// referee for input where a floating-point filter could be fooled by underflow or overflow.
+int gmp_orient3d(const detail::Point3d& a, const detail::Point3d& b, const detail::Point3d& c, const detail::Point3d& d) {
+    using Q = CGAL::Gmpq;
+    const Q adx = Q(a.x) - Q(d.x), ady = Q(a.y) - Q(d.y), adz = Q(a.z) - Q(d.z);
+    const Q bdx = Q(b.x) - Q(d.x), bdy = Q(b.y) - Q(d.y), bdz = Q(b.z) - Q(d.z);
+    const Q cdx = Q(c.x) - Q(d.x), cdy = Q(c.y) - Q(d.y), cdz = Q(c.z) - Q(d.z);
+    const Q det = adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
+    return CGAL::sign(det);
+}
+int gmp_orient2d(const detail::Point2d& a, const detail::Point2d& b, const detail::Point2d& c) {
+    using Q = CGAL::Gmpq;
+    const Q det = (Q(a.x) - Q(c.x)) * (Q(b.y) - Q(c.y)) - (Q(a.y) - Q(c.y)) * (Q(b.x) - Q(c.x));
+    return CGAL::sign(det);
+}
+
+/// One coordinate stepped k ulps (k in −3 … 3); from 0 that is a subnormal.
+double step_ulps(double x, int k) {
+    for (int i = 0; i < std::abs(k); ++i) x = std::nextafter(x, k > 0 ? HUGE_VAL : -HUGE_VAL);
+    return x;
+}
+
+}  // namespace
+
+TEST_CASE("orient3d and orient2d are exact outside the floating-point range (subnormal, huge)",
+          "[triangle][predicates][cgal]") {
+    tri::Rng rng(2718);
+    const int n = test::scaled(3000, 150);
+    int wide = 0, zero = 0, pos = 0, neg = 0, filtered_wrong = 0, cgal_wrong = 0;
+    auto check = [&](const detail::Point3d (&P)[4]) {
+        const int expected = gmp_orient3d(P[0], P[1], P[2], P[3]);
+        (expected == 0 ? zero : expected > 0 ? pos : neg)++;
+        cgal_wrong += cgal_orient3d(P[0], P[1], P[2], P[3]) != expected;
+        INFO(std::hexfloat << P[0].x << " " << P[0].y << " " << P[0].z << " | " << P[1].x << " " << P[1].y << " " << P[1].z
+                           << " | " << P[2].x << " " << P[2].y << " " << P[2].z << " | " << P[3].x << " " << P[3].y << " "
+                           << P[3].z);
+        const double x[12] = {P[0].x, P[0].y, P[0].z, P[1].x, P[1].y, P[1].z, P[2].x, P[2].y, P[2].z, P[3].x, P[3].y, P[3].z};
+        wide += detail::any_outside_predicate_range(x);
+        double v;
+        REQUIRE(detail::orient3d_wide(P[0], P[1], P[2], P[3], &v) == expected);
+        REQUIRE((v > 0) - (v < 0) == expected);
+        REQUIRE(detail::orient3d_any_range(P[0], P[1], P[2], P[3]) == expected);
+        const Vec3<double> a(P[0].x, P[0].y, P[0].z), b(P[1].x, P[1].y, P[1].z), c(P[2].x, P[2].y, P[2].z),
+            d(P[3].x, P[3].y, P[3].z);
+        REQUIRE(orient3d(a, b, c, d) == expected);
+        filtered_wrong += detail::orient3d_filtered(P[0], P[1], P[2], P[3]) != expected;
+        // orient2d on the xy projection of the first three points.
+        const detail::Point2d q[3] = {{P[0].x, P[0].y}, {P[1].x, P[1].y}, {P[3].x, P[3].y}};
+        const int expected2 = gmp_orient2d(q[0], q[1], q[2]);
+        cgal_wrong += static_cast<int>(CGAL::orientation(IK::Point_2(q[0].x, q[0].y), IK::Point_2(q[1].x, q[1].y),
+                                                         IK::Point_2(q[2].x, q[2].y))) != expected2;
+        REQUIRE(detail::orient2d_any_range(q[0], q[1], q[2]) == expected2);
+        REQUIRE(orient2d(Eigen::Vector2d(q[0].x, q[0].y), Eigen::Vector2d(q[1].x, q[1].y),
+                         Eigen::Vector2d(q[2].x, q[2].y)) == expected2);
+    };
+    SECTION("a point one to three ulps off a plane through the origin (subnormal offsets)") {
+        for (int i = 0; i < n; ++i) {
+            detail::Point3d P[4];
+            for (int j = 0; j < 3; ++j) P[j] = {double(rng.integer(-8, 8)), double(rng.integer(-8, 8)), 0.0};
+            P[3] = {rng.dyadic(-8, 8), rng.dyadic(-8, 8), step_ulps(0.0, rng.integer(-3, 3))};
+            if (rng.coin()) std::swap(P[3], P[rng.integer(0, 2)]);
+            check(P);
+        }
+    }
+    SECTION("coordinates spread over the whole double range") {
+        for (int i = 0; i < n; ++i) {
+            detail::Point3d P[4];
+            const int lo = rng.integer(-1080, 1000), hi = std::min(1020, lo + rng.integer(0, 400));
+            for (auto& p : P) p = {any_magnitude(rng, lo, hi), any_magnitude(rng, lo, hi), any_magnitude(rng, lo, hi)};
+            check(P);
+        }
+    }
+    SECTION("nearly coplanar points scaled to the subnormal and the huge end") {
+        for (int i = 0; i < n; ++i) {
+            detail::Point3d P[4];
+            near_coplanar(rng, P, 0.0, 0);
+            const int e = rng.coin() ? rng.integer(-1075, -1000) : rng.integer(1000, 1020);
+            for (auto& p : P) p = {std::ldexp(p.x, e), std::ldexp(p.y, e), std::ldexp(p.z, e)};
+            check(P);
+        }
+    }
+    SECTION("determinants far below the smallest double") {
+        const double t = std::numeric_limits<double>::denorm_min();
+        detail::Point3d P[4] = {{t, 0, 0}, {0, t, 0}, {0, 0, t}, {0, 0, 0}};
+        check(P);
+        std::swap(P[0], P[1]);
+        check(P);
+        CHECK(pos == 1);
+        CHECK(neg == 1);
+    }
+    WARN("wide-range orient3d: " << pos << " +, " << neg << " −, " << zero << " zero; " << wide
+                                 << " outside the filter's range; the floating-point stages alone wrong on "
+                                 << filtered_wrong << "; CGAL's Epick orientation wrong on " << cgal_wrong);
+    CHECK(wide > 0);
+}
+
+TEST_CASE("triangles_intersect equals CGAL with subnormal and huge coordinates", "[triangle][cgal]") {
+    using S = double;
+    const int per_kind = test::scaled(1500, 20);
+    long wrong_before_fix = 0, all = 0;
+    for (int k = 0; k < static_cast<int>(tri::Kind::count); ++k) {
+        const auto kind = static_cast<tri::Kind>(k);
+        tri::Rng rng(9100 + k);
+        for (int i = 0; i < per_kind; ++i) {
+            auto x = tri::as<S>(tri::generate(kind, rng));
+            const int mode = rng.integer(0, 2);
+            if (mode == 0) {  // P in the plane z = 0, one vertex of Q a few ulps (subnormal) off it
+                for (auto& v : x.p) v.z() = 0;
+                x.q[0].z() = step_ulps(0.0, rng.integer(-3, 3));
+            } else {  // everything scaled into the subnormal or the huge end (exact unless it rounds)
+                double m = 0;
+                for (const auto* t : {&x.p, &x.q})
+                    for (const auto& v : *t) m = std::max(m, v.cwiseAbs().maxCoeff());
+                int top;
+                std::frexp(m, &top);  // the largest coordinate is below 2^top; keep it below 2^1020
+                const int e = mode == 1 ? rng.integer(-1070, -1030) : rng.integer(990, 1020) - std::max(top, 0);
+                for (auto* t : {&x.p, &x.q})
+                    for (auto& v : *t) v = Vec3<S>(std::ldexp(v.x(), e), std::ldexp(v.y(), e), std::ldexp(v.z(), e));
+            }
+            const bool expected = oracle(simplex(x.p), simplex(x.q));
+            const bool got = triangles_intersect(x.p[0], x.p[1], x.p[2], x.q[0], x.q[1], x.q[2]);
+            if (got != expected) {
+                INFO(tri::name(kind) << " case " << i << " mode " << mode);
+                for (int j = 0; j < 3; ++j) INFO("p" << j << " " << x.p[j].transpose() << "   q" << j << " " << x.q[j].transpose());
+                REQUIRE(got == expected);
+            }
+            const auto w = triangle_intersection(x.p[0], x.p[1], x.p[2], x.q[0], x.q[1], x.q[2]);
+            REQUIRE(w.intersect == expected);
+            REQUIRE(w.a.allFinite());
+            REQUIRE(w.b.allFinite());
+            // What the in-range kernel alone would answer: shows the cases the wide stage exists for.
+            const auto pts = [](const std::array<Vec3<S>, 3>& t) {
+                return std::array<detail::Point3d, 3>{pt(t[0]), pt(t[1]), pt(t[2])};
+            };
+            const auto p = pts(x.p), q = pts(x.q);
+            detail::Point3d pp[3] = {p[0], p[1], p[2]}, qq[3] = {q[0], q[1], q[2]};
+            wrong_before_fix +=
+                detail::tritri::triangle_triangle<detail::tritri::ExactKernel, false>(pp, qq, nullptr) != expected;
+            ++all;
+        }
+    }
+    WARN(all << " pairs with subnormal or huge coordinates equal CGAL; the floating-point stages alone were wrong on "
+             << wrong_before_fix);
+    CHECK(wrong_before_fix > 0);
+}

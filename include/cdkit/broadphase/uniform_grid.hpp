@@ -6,7 +6,7 @@
 /// (hash of the integer cell coordinates with three large primes), each object registered in every cell its
 /// box touches. Cell size: the average object diameter (largest box edge) unless the user sets one.
 ///
-/// The table is rebuilt every frame with a counting sort by bucket, O(n) and the same cost for coherent
+/// The table is rebuilt every frame by a radix sort on the bucket index, O(n) and the same cost for coherent
 /// and teleporting scenes. A pair is reported only in the cell that holds the min corner of the two boxes'
 /// intersection, so each pair appears once without a hash set of reported pairs (both boxes touch that cell,
 /// because floor() is monotone). Objects that would touch more than `max_cells_per_object` cells (huge
@@ -83,31 +83,38 @@ public:
             if (count > max_cells_) { big_.push_back(k); continue; }
             for (int x = lo[0]; x <= hi[0]; ++x)
                 for (int y = lo[1]; y <= hi[1]; ++y)
-                    for (int z = lo[2]; z <= hi[2]; ++z) cells_.push_back({x, y, z, k});
+                    for (int z = lo[2]; z <= hi[2]; ++z) cells_.push_back({x, y, z, k, 0});
         }
         stats_.registrations = cells_.size();
         stats_.oversized = big_.size();
 
-        // Counting sort of the registrations by hash bucket (the hash table, rebuilt in O(m)).
+        // Group the registrations by hash bucket (the hash table, rebuilt in O(m)): a two-pass LSD radix sort
+        // on the bucket index. Each pass counts at most 2^13 digits (in L1) and scatters into that many
+        // sequential streams; one counting sort over all 2m buckets would miss the cache on every counter
+        // and every store at 100k objects.
         std::size_t buckets = 16;
-        while (buckets < 2 * cells_.size()) buckets *= 2;
-        start_.assign(buckets + 1, 0);
-        for (const auto& c : cells_) ++start_[bucket(c, buckets) + 1];
-        for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
-        sorted_.resize(cells_.size());
-        fill_ = start_;
-        for (const auto& c : cells_) sorted_[fill_[bucket(c, buckets)]++] = c;
+        int bits = 4;
+        while (buckets < 2 * cells_.size()) buckets *= 2, ++bits;
+        for (auto& c : cells_) c.key = std::uint32_t(bucket(c, buckets));
+        radix_pass(cells_, sorted_, 0, bits / 2);
+        radix_pass(sorted_, cells_, bits / 2, bits - bits / 2);  // cells_ is now sorted by key (stable)
+        // The boxes in registration order: one random read per registration here, then the pair loops below
+        // read consecutive entries instead of a random object per candidate.
+        const std::size_t m = cells_.size();
+        boxes_.resize(m);
+        for (std::size_t i = 0; i < m; ++i) boxes_[i] = objs_[cells_[i].obj];
 
         std::size_t cand = 0;
-        for (std::size_t b = 0; b < buckets; ++b) {
-            const std::uint32_t s = start_[b], e = start_[b + 1];
-            for (std::uint32_t i = s; i < e; ++i) {
-                const Cell& ci = sorted_[i];
-                const Obj& p = objs_[ci.obj];
-                for (std::uint32_t j = i + 1; j < e; ++j) {
-                    const Cell& cj = sorted_[j];
+        for (std::size_t s = 0; s < m;) {
+            std::size_t e = s + 1;
+            while (e < m && cells_[e].key == cells_[s].key) ++e;
+            for (std::size_t i = s; i < e; ++i) {
+                const Cell& ci = cells_[i];
+                const Obj& p = boxes_[i];
+                for (std::size_t j = i + 1; j < e; ++j) {
+                    const Cell& cj = cells_[j];
                     if ((ci.x != cj.x) | (ci.y != cj.y) | (ci.z != cj.z)) continue;  // hash collision
-                    const Obj& q = objs_[cj.obj];
+                    const Obj& q = boxes_[j];
                     ++cand;
                     if (!overlaps(p, q)) continue;
                     // Report only in the cell of the intersection's min corner.
@@ -117,6 +124,7 @@ public:
                     p.id < q.id ? f(p.id, q.id) : f(q.id, p.id);
                 }
             }
+            s = e;
         }
         // Oversized objects against everything (each big-big pair once).
         if (!big_.empty()) {
@@ -148,7 +156,17 @@ private:
     struct Cell {
         int x, y, z;
         std::uint32_t obj;  // index into objs_
+        std::uint32_t key;  // hash bucket
     };
+    /// One stable counting-sort pass of src into dst by the digit (key >> shift) & (2^nbits - 1).
+    void radix_pass(const std::vector<Cell>& src, std::vector<Cell>& dst, int shift, int nbits) {
+        const std::uint32_t mask = (std::uint32_t(1) << nbits) - 1;
+        count_.assign(std::size_t(mask) + 2, 0);
+        for (const Cell& c : src) ++count_[((c.key >> shift) & mask) + 1];
+        for (std::size_t d = 0; d + 1 < count_.size(); ++d) count_[d + 1] += count_[d];
+        dst.resize(src.size());
+        for (const Cell& c : src) dst[count_[(c.key >> shift) & mask]++] = c;
+    }
     static bool overlaps(const Obj& p, const Obj& q) noexcept {
         return (p.lo[0] <= q.hi[0]) & (q.lo[0] <= p.hi[0]) & (p.lo[1] <= q.hi[1]) & (q.lo[1] <= p.hi[1]) &
                (p.lo[2] <= q.hi[2]) & (q.lo[2] <= p.hi[2]);
@@ -182,8 +200,9 @@ private:
     S user_cell_;
     std::size_t max_cells_;
     std::vector<Obj> objs_;
+    std::vector<Obj> boxes_;  // objs_[sorted_[i].obj] for every registration i
     std::vector<Cell> cells_, sorted_;
-    std::vector<std::uint32_t> start_, fill_, big_;
+    std::vector<std::uint32_t> count_, big_;
     std::vector<unsigned char> is_big_;
     Stats stats_;
 };

@@ -10,6 +10,7 @@ namespace cdkit {
 
 template <class S> struct Aabb {
     using Scalar = S;
+    template <class T> using rebind = Aabb<T>;  ///< the same BV in another scalar type
     static constexpr const char* name = "AABB";
 
     Vec3<S> center = Vec3<S>::Zero();

@@ -120,6 +120,7 @@ private:
 template <class S, int K> struct Kdop {
     static_assert(K == 6 || K == 14 || K == 18 || K == 26, "Kdop supports K = 6, 14, 18 or 26");
     using Scalar = S;
+    template <class T> using rebind = Kdop<T, K>;  ///< the same BV in another scalar type
     static constexpr int N = K / 2;  ///< number of slabs
     static constexpr const char* name = K == 6 ? "KDOP6" : K == 14 ? "KDOP14" : K == 18 ? "KDOP18" : "KDOP26";
     static constexpr std::array<std::array<int, 3>, N> directions = detail::kdop_directions<K>();

@@ -5,6 +5,7 @@
 
 #include "cdkit/bv/detail/separating_axis.hpp"
 #include "cdkit/bv/fit.hpp"
+#include "cdkit/bv/triangle_moments.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -12,6 +13,7 @@ namespace cdkit {
 
 template <class S> struct Obb {
     using Scalar = S;
+    template <class T> using rebind = Obb<T>;  ///< the same BV in another scalar type
     static constexpr const char* name = "OBB";
 
     Mat3<S> axes = Mat3<S>::Identity();  ///< columns: the box's unit axes, a right-handed rotation
@@ -38,12 +40,42 @@ template <class S> struct Obb {
     /// then the tight box in that frame, padded conservatively.
     [[nodiscard]] static Obb fit(const TriangleMesh<S>& mesh, TriangleRange tris) noexcept {
         if (tris.empty()) return empty();
-        // Moments in double: the covariance of a float mesh loses too much in float.
+        return fit_in_frame(mesh, tris, principal_frame(local_covariance(mesh, tris)));
+    }
+
+    /// The same fit from moments precomputed about a common origin (triangle_moments(): a build sums ten
+    /// numbers per triangle instead of recomputing outer products at every level). Where those moments
+    /// cancel — a node tiny against its distance from the origin — or all areas are zero, it falls back
+    /// to node-local moments, so the frame is as accurate as fit()'s.
+    [[nodiscard]] static Obb fit(const TriangleMesh<S>& mesh, TriangleRange tris, const MeshMoments& moments) noexcept {
+        if (tris.empty()) return empty();
+        double area = 0, first[3] = {0, 0, 0}, second[6] = {0, 0, 0, 0, 0, 0};
+        for (Index t : tris) {
+            const TriangleMoments& m = moments.triangles[t];
+            area += m.area;
+            for (int k = 0; k < 3; ++k) first[k] += m.first[k];
+            for (int k = 0; k < 6; ++k) second[k] += m.second[k];
+        }
+        if (area > 0) {
+            const Eigen::Matrix<double, 3, 1> mean(first[0] / area, first[1] / area, first[2] / area);
+            Eigen::Matrix<double, 3, 3> cov;
+            int k = 0;
+            for (int a = 0; a < 3; ++a)
+                for (int b = a; b < 3; ++b, ++k) cov(a, b) = cov(b, a) = second[k] / area - mean[a] * mean[b];
+            // E[x xᵀ] − mean meanᵀ keeps about 16 − log10(|mean|² / trace) digits: accept it while that is
+            // at least 10; nearer the cancellation, node-local moments are cheap (such nodes are small).
+            if (cov.trace() > 1e-6 * mean.squaredNorm()) return fit_in_frame(mesh, tris, principal_frame(cov));
+        }
+        return fit(mesh, tris);
+    }
+
+    /// Covariance of the triangles (area weighted; of the vertices when every area is zero), in double
+    /// about one of their vertices so that far-away meshes do not cancel catastrophically.
+    [[nodiscard]] static Eigen::Matrix<double, 3, 3> local_covariance(const TriangleMesh<S>& mesh, TriangleRange tris) noexcept {
         using D = double;
         Eigen::Matrix<D, 3, 3> second = Eigen::Matrix<D, 3, 3>::Zero();
         Eigen::Matrix<D, 3, 1> first = Eigen::Matrix<D, 3, 1>::Zero();
         D area_sum = 0;
-        // Shift by one vertex so the moments of far-away meshes do not cancel catastrophically.
         const Eigen::Matrix<D, 3, 1> origin = mesh.vertices[mesh.triangles[tris[0]][0]].template cast<D>();
         for (Index t : tris) {
             const auto& tri = mesh.triangles[t];
@@ -75,22 +107,29 @@ template <class S> struct Obb {
                     cov += d * d.transpose();
                 }
         }
+        return cov;
+    }
+
+    /// The eigenvectors of a covariance as a right-handed rotation, largest variance first (identity when
+    /// the decomposition fails).
+    [[nodiscard]] static Mat3<S> principal_frame(const Eigen::Matrix<double, 3, 3>& cov) noexcept {
+        using D = double;
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix<D, 3, 3>> eig;
         eig.computeDirect(cov);
         Eigen::Matrix<D, 3, 3> frame = eig.eigenvectors();
         if (!frame.allFinite()) frame.setIdentity();
-        // Largest variance first; re-orthonormalise and make it right-handed.
+        // Re-orthonormalise and make it right-handed.
         Eigen::Matrix<D, 3, 1> u = frame.col(2).normalized();
         Eigen::Matrix<D, 3, 1> v = (frame.col(1) - frame.col(1).dot(u) * u).normalized();
         if (!u.allFinite() || !v.allFinite()) {
             u = Eigen::Matrix<D, 3, 1>::UnitX();
             v = Eigen::Matrix<D, 3, 1>::UnitY();
         }
-        Obb box;
-        box.axes.col(0) = u.template cast<S>();
-        box.axes.col(1) = v.template cast<S>();
-        box.axes.col(2) = u.cross(v).template cast<S>();
-        return fit_in_frame(mesh, tris, box.axes);
+        Mat3<S> axes;
+        axes.col(0) = u.template cast<S>();
+        axes.col(1) = v.template cast<S>();
+        axes.col(2) = u.cross(v).template cast<S>();
+        return axes;
     }
 
     /// The tight box with the given axes (columns, orthonormal) around the triangles' vertices.

@@ -78,6 +78,7 @@ inline Ball welzl_mtf(std::vector<Vec3d>& pts, std::size_t end, std::array<Vec3d
 /// A ball: centre and radius.
 template <class S> struct BoundingSphere {
     using Scalar = S;
+    template <class T> using rebind = BoundingSphere<T>;  ///< the same BV in another scalar type
     static constexpr const char* name = "SPHERE";
 
     Vec3<S> center = Vec3<S>::Zero();

@@ -3,18 +3,45 @@
 /// BV's longest axis, recurse. Median splits give a balanced tree (depth ⌈log2(n / leaf size)⌉ + 1).
 
 #include "cdkit/bv/fit.hpp"
+#include "cdkit/bv/narrow_outward.hpp"
+#include "cdkit/bv/triangle_moments.hpp"
 #include "cdkit/bvh/bvh.hpp"
 
-#include <algorithm>
-#include <numeric>
-#include <array>
-
 #include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
 #include <limits>
+#include <numeric>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#if defined(CDKIT_HAS_TBB)
+#include <tbb/parallel_for.h>
+#endif
 
 namespace cdkit {
 
 namespace detail {
+/// BVs whose fit can use per-mesh precomputed triangle moments (Obb).
+template <class BV>
+concept FitsFromMoments = requires(const TriangleMesh<typename BV::Scalar>& m, TriangleRange r, const MeshMoments& mm) {
+    { BV::fit(m, r, mm) } -> std::same_as<BV>;
+};
+
+/// Moves the median of [first, last) by (key, index) to first + (last − first) / 2, the smaller keys before
+/// it: nth_element on cached keys, which spares re-reading centroids at every comparison. Ties broken by
+/// index so that builds are deterministic whatever the standard library does.
+template <class S, class Key>
+void median_partition(Index* first, Index* last, Key key, std::vector<std::pair<S, Index>>& scratch) {
+    const std::size_t n = std::size_t(last - first);
+    scratch.resize(n);
+    for (std::size_t i = 0; i < n; ++i) scratch[i] = {key(first[i]), first[i]};
+    std::nth_element(scratch.begin(), scratch.begin() + n / 2, scratch.end());
+    for (std::size_t i = 0; i < n; ++i) first[i] = scratch[i].second;
+}
+
 /// The BV's split_axis() when it has one; otherwise (a sphere has no preferred direction) the axis along
 /// which the node's triangle centroids spread widest.
 template <class BV, class S>
@@ -140,76 +167,187 @@ template <class S>
 }
 }  // namespace detail
 
-/// Builds a Bvh<BV> over `mesh`, which must be valid (validate() it first; MeshModel does). O(n log n) for
-/// median, mean and sah splits (O(n · depth)); O(n log² n) for pca_volume (a sort per node).
-template <class BV> [[nodiscard]] Bvh<BV> build_bvh(const TriangleMesh<typename BV::Scalar>& mesh,
-                                                    const BuildOptions& options = {}) {
+namespace detail {
+
+/// One top-down build: the shared read-only inputs and the triangle order, which each subtree permutes only
+/// within its own range (so disjoint subtrees may be built by different threads).
+template <class BV> class TopDownBuilder {
+public:
     using S = typename BV::Scalar;
     using Node = BvhNode<BV>;
-    const std::size_t n = mesh.triangles.size();
-    const std::uint32_t leaf_max = std::max<std::uint32_t>(1, options.max_leaf_triangles);
-    std::vector<Index> order(n);
-    std::iota(order.begin(), order.end(), Index(0));
-    std::vector<Vec3<S>> centroid(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const Triangle& t = mesh.triangles[i];
-        centroid[i] = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / S(3);
-    }
-    std::vector<Node> nodes;
-    if (n == 0) return {};
-    nodes.reserve(2 * ((n + leaf_max - 1) / leaf_max));
-    nodes.emplace_back();
-    struct Work { std::uint32_t node, begin, end, level; };
-    std::vector<Work> stack{{0, 0, std::uint32_t(n), 1}};
-    std::size_t depth = 0;
-    while (!stack.empty()) {
-        const Work w = stack.back();
-        stack.pop_back();
-        depth = std::max<std::size_t>(depth, w.level);
-        const TriangleRange range(order.data() + w.begin, w.end - w.begin);
-        nodes[w.node].bv = BV::fit(mesh, range);
-        if (w.end - w.begin <= leaf_max) {
-            nodes[w.node].first = w.begin;
-            nodes[w.node].count = w.end - w.begin;
-            continue;
+    /// A node whose range is built later (by subtree()): its index in the node array and its range.
+    struct Pending {
+        std::uint32_t node, begin, end, level;
+    };
+
+    TopDownBuilder(const TriangleMesh<S>& mesh, const BuildOptions& options)
+        : mesh_(mesh), options_(options), leaf_max_(std::max<std::uint32_t>(1, options.max_leaf_triangles)),
+          order_(mesh.triangles.size()), centroid_(mesh.triangles.size()) {
+        std::iota(order_.begin(), order_.end(), Index(0));
+        for (std::size_t i = 0; i < centroid_.size(); ++i) {
+            const Triangle& t = mesh.triangles[i];
+            centroid_[i] = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / S(3);
         }
-        const Vec3<S> axis = detail::split_direction(nodes[w.node].bv, centroid, order.data() + w.begin,
-                                                     order.data() + w.end);
-        auto key = [&](Index t) { return centroid[t].dot(axis); };
-        // Ties broken by index so that builds are deterministic whatever the standard library does.
-        auto less = [&](Index a, Index b) {
-            const S ka = key(a), kb = key(b);
-            return ka < kb || (ka == kb && a < b);
-        };
-        Index* first = order.data() + w.begin;
-        Index* last = order.data() + w.end;
-        Index* mid = first + (w.end - w.begin) / 2;
+        if constexpr (FitsFromMoments<BV>) moments_ = triangle_moments(mesh);
+    }
+
+    /// Builds the nodes of `root`'s range into `nodes` (root's slot already there), depth first; children
+    /// of a node are adjacent. Nodes at level `stop_level` with more than a leaf's triangles are left
+    /// unsplit (only their BV fitted) and reported in `pending` instead. Returns the depth reached.
+    std::size_t grow(std::vector<Node>& nodes, const Pending& root, std::uint32_t stop_level,
+                     std::vector<Pending>* pending) const {
+        std::vector<std::pair<S, Index>> scratch;
+        std::vector<Pending> stack{root};
+        std::size_t depth = 0;
+        while (!stack.empty()) {
+            const Pending w = stack.back();
+            stack.pop_back();
+            depth = std::max<std::size_t>(depth, w.level);
+            const TriangleRange range(order_.data() + w.begin, w.end - w.begin);
+            if constexpr (FitsFromMoments<BV>) nodes[w.node].bv = BV::fit(mesh_, range, moments_);
+            else nodes[w.node].bv = BV::fit(mesh_, range);
+            if (w.end - w.begin <= leaf_max_) {
+                nodes[w.node].first = w.begin;
+                nodes[w.node].count = w.end - w.begin;
+                continue;
+            }
+            if (pending != nullptr && w.level == stop_level) {
+                pending->push_back(w);
+                continue;
+            }
+            const std::uint32_t split = split_range(nodes[w.node].bv, w.begin, w.end, scratch);
+            const std::uint32_t children = std::uint32_t(nodes.size());
+            nodes[w.node].first = children;
+            nodes[w.node].count = 0;
+            nodes.emplace_back();
+            nodes.emplace_back();
+            // Right first so the left subtree is built (and laid out) next: depth-first order in memory.
+            stack.push_back({children + 1, split, w.end, w.level + 1});
+            stack.push_back({children, w.begin, split, w.level + 1});
+        }
+        return depth;
+    }
+
+    /// The whole subtree of `p` as its own array, root at 0, child indices local to it.
+    std::vector<Node> subtree(const Pending& p, std::size_t& depth) const {
+        std::vector<Node> nodes(1);
+        nodes.reserve(2 * ((p.end - p.begin + leaf_max_ - 1) / leaf_max_));
+        depth = grow(nodes, {0, p.begin, p.end, p.level}, 0, nullptr);
+        return nodes;
+    }
+
+    [[nodiscard]] std::vector<Index>& order() noexcept { return order_; }
+
+private:
+    /// Partitions [begin, end) of the order by the chosen strategy; returns the cut (begin < cut < end).
+    std::uint32_t split_range(const BV& bv, std::uint32_t begin, std::uint32_t end,
+                              std::vector<std::pair<S, Index>>& scratch) const {
+        Index* first = order_.data() + begin;
+        Index* last = order_.data() + end;
+        const Vec3<S> axis = split_direction(bv, centroid_, first, last);
+        auto key = [&](Index t) { return centroid_[t].dot(axis); };
+        Index* mid = first + (end - begin) / 2;
         Index* cut = nullptr;
-        if (options.split == SplitStrategy::sah) cut = detail::sah_split(mesh, centroid, first, last);
-        else if (options.split == SplitStrategy::pca_volume) cut = detail::pca_volume_split(mesh, centroid, first, last);
+        if (options_.split == SplitStrategy::sah) cut = sah_split(mesh_, centroid_, first, last);
+        else if (options_.split == SplitStrategy::pca_volume) cut = pca_volume_split(mesh_, centroid_, first, last);
         if (cut != nullptr && cut != first && cut != last) {
             mid = cut;
-        } else if (options.split == SplitStrategy::mean) {
+        } else if (options_.split == SplitStrategy::mean) {
             S mean = 0;
             for (Index* p = first; p != last; ++p) mean += key(*p);
             mean /= S(last - first);
             Index* mean_cut = std::partition(first, last, [&](Index t) { return key(t) < mean; });
             if (mean_cut != first && mean_cut != last) mid = mean_cut;
-            else std::nth_element(first, mid, last, less);
+            else median_partition(first, last, key, scratch);
         } else {
-            std::nth_element(first, mid, last, less);
+            median_partition(first, last, key, scratch);
         }
-        const std::uint32_t split = std::uint32_t(mid - order.data());
-        const std::uint32_t children = std::uint32_t(nodes.size());
-        nodes[w.node].first = children;
-        nodes[w.node].count = 0;
-        nodes.emplace_back();
-        nodes.emplace_back();
-        // Right first so the left subtree is built (and laid out) next: depth-first order in memory.
-        stack.push_back({children + 1, split, w.end, w.level + 1});
-        stack.push_back({children, w.begin, split, w.level + 1});
+        return std::uint32_t(mid - order_.data());
     }
-    return Bvh<BV>(std::move(nodes), std::move(order), depth);
+
+    const TriangleMesh<S>& mesh_;
+    BuildOptions options_;
+    std::uint32_t leaf_max_;
+    // mutable: subtrees permute disjoint ranges of it; nothing else changes after construction.
+    mutable std::vector<Index> order_;
+    std::vector<Vec3<S>> centroid_;
+    MeshMoments moments_;
+};
+
+}  // namespace detail
+
+/// Builds a Bvh<BV> over `mesh`, which must be valid (validate() it first; MeshModel does). O(n log n) for
+/// median, mean and sah splits (O(n · depth)); O(n log² n) for pca_volume (a sort per node).
+/// With TBB (CDKIT_HAS_TBB) and options.parallel, meshes of at least options.parallel_min_triangles are built by
+/// splitting the top levels first and then growing the subtrees below them in parallel: the same tree as the
+/// sequential build (same nodes, BVs and triangle order), with the subtrees laid out one after another.
+///
+/// A mesh in double with a float BV (Obb<float> over TriangleMesh<double>, say) gets the double tree's
+/// structure with every BV rounded outward to float (bv/narrow_outward.hpp): half the node bytes, still
+/// exact in the conservative direction.
+namespace detail {
+template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<typename BV::Scalar>& mesh,
+                                                           const BuildOptions& options);
+}  // namespace detail
+
+template <class BV, class M = typename BV::Scalar>
+[[nodiscard]] Bvh<BV> build_bvh(const TriangleMesh<M>& mesh, const BuildOptions& options = {}) {
+    static_assert(detail::bv_fits_mesh_v<BV, M>, "a BV is stored in the mesh's scalar type, or in float over a double mesh");
+    if constexpr (!std::is_same_v<typename BV::Scalar, M>) {
+        const auto wide = build_bvh<typename BV::template rebind<M>>(mesh, options);
+        std::vector<BvhNode<BV>> nodes(wide.nodes().size());
+        for (std::size_t i = 0; i < nodes.size(); ++i) {
+            nodes[i].bv = narrow_outward(wide.nodes()[i].bv);
+            nodes[i].first = wide.nodes()[i].first;
+            nodes[i].count = wide.nodes()[i].count;
+        }
+        return Bvh<BV>(std::move(nodes), wide.triangle_order(), wide.depth());
+    } else {
+        return detail::build_same_scalar<BV>(mesh, options);
+    }
 }
+
+namespace detail {
+template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<typename BV::Scalar>& mesh,
+                                                           const BuildOptions& options) {
+    using Node = BvhNode<BV>;
+    using Pending = typename detail::TopDownBuilder<BV>::Pending;
+    const std::size_t n = mesh.triangles.size();
+    if (n == 0) return {};
+    detail::TopDownBuilder<BV> builder(mesh, options);
+    const std::uint32_t leaf_max = std::max<std::uint32_t>(1, options.max_leaf_triangles);
+    std::vector<Node> nodes(1);
+    nodes.reserve(2 * ((n + leaf_max - 1) / leaf_max));
+    const Pending root{0, 0, std::uint32_t(n), 1};
+#if defined(CDKIT_HAS_TBB)
+    if (options.parallel && n >= std::max<std::size_t>(options.parallel_min_triangles, 2 * leaf_max)) {
+        // Top levels sequentially, down to 16 subtrees (enough to balance a few cores), then those in parallel.
+        constexpr std::uint32_t kTopLevels = 5;
+        std::vector<Pending> pending;
+        std::size_t depth = builder.grow(nodes, root, kTopLevels, &pending);
+        std::vector<std::vector<Node>> parts(pending.size());
+        std::vector<std::size_t> part_depth(pending.size());
+        tbb::parallel_for(std::size_t(0), pending.size(),
+                          [&](std::size_t i) { parts[i] = builder.subtree(pending[i], part_depth[i]); });
+        // Append each subtree below the top nodes: its root fills the pending slot, the rest moves by an offset.
+        for (std::size_t i = 0; i < pending.size(); ++i) {
+            const std::vector<Node>& part = parts[i];
+            const std::uint32_t offset = std::uint32_t(nodes.size()) - 1;  // local index j >= 1 -> j + offset
+            auto moved = [&](Node node) {
+                if (!node.is_leaf()) node.first += offset;
+                return node;
+            };
+            nodes[pending[i].node] = moved(part[0]);
+            for (std::size_t j = 1; j < part.size(); ++j) nodes.push_back(moved(part[j]));
+            depth = std::max(depth, part_depth[i]);
+            std::vector<Node>().swap(parts[i]);  // release as we go: the parts together are a second tree
+        }
+        return Bvh<BV>(std::move(nodes), std::move(builder.order()), depth);
+    }
+#endif
+    const std::size_t depth = builder.grow(nodes, root, 0, nullptr);
+    return Bvh<BV>(std::move(nodes), std::move(builder.order()), depth);
+}
+}  // namespace detail
 
 }  // namespace cdkit

@@ -36,6 +36,11 @@ enum class SplitStrategy {
 struct BuildOptions {
     SplitStrategy split = SplitStrategy::median;
     std::uint32_t max_leaf_triangles = 1;  ///< leaves hold at most this many triangles (≥ 1)
+    /// Build meshes of at least `parallel_min_triangles` on several threads when cdkit has TBB
+    /// (CDKIT_HAS_TBB); the tree is the same either way, only its node layout differs. Below 2^16
+    /// triangles, starting threads costs more than the build.
+    bool parallel = true;
+    std::size_t parallel_min_triangles = std::size_t(1) << 16;
 };
 
 /// Statistics of a built tree.
@@ -79,7 +84,8 @@ public:
     /// Checks the tree's invariants against its mesh and throws cdkit::Error naming the first broken one:
     /// child indices in range, every triangle in exactly one leaf, and every vertex of a leaf's triangles
     /// inside the BV of the leaf and of each of its ancestors. O(n · depth): for tests and debugging.
-    void validate(const TriangleMesh<Scalar>& mesh) const;
+    /// The mesh may be in double under float BVs (see build_bvh); vertices are then tested rounded to float.
+    template <class M> void validate(const TriangleMesh<M>& mesh) const;
 
 private:
     std::vector<Node> nodes_;
@@ -87,7 +93,7 @@ private:
     std::size_t depth_ = 0;
 };
 
-template <class BV> void Bvh<BV>::validate(const TriangleMesh<Scalar>& mesh) const {
+template <class BV> template <class M> void Bvh<BV>::validate(const TriangleMesh<M>& mesh) const {
     const std::string src = mesh.source;
     if (nodes_.empty()) throw Error(src, "bvh", "tree is empty");
     if (order_.size() != mesh.triangles.size()) throw Error(src, "bvh", "triangle count differs from the mesh's");
@@ -112,7 +118,7 @@ template <class BV> void Bvh<BV>::validate(const TriangleMesh<Scalar>& mesh) con
                 // The leaf and all its ancestors must contain the triangle's vertices.
                 for (std::uint32_t a = i; a != UINT32_MAX; a = parent_of[a])
                     for (Index v : mesh.triangles[t])
-                        if (!nodes_[a].bv.contains(mesh.vertices[v]))
+                        if (!nodes_[a].bv.contains(mesh.vertices[v].template cast<Scalar>()))
                             throw Error(src, "bvh node " + std::to_string(a),
                                         "does not contain vertex " + std::to_string(v) + " of triangle " +
                                             std::to_string(t));

@@ -1,16 +1,23 @@
 #pragma once
-/// \file MeshModel<BV>: a triangle mesh (shared, never copied by queries) with its BVH.
+/// \file MeshModel<BV, M>: a triangle mesh of scalar M (shared, never copied by queries) with its BVH.
 
 #include "cdkit/bvh/build.hpp"
 #include "cdkit/bvh/refit.hpp"
 
 #include <memory>
+#include <string>
+#include <type_traits>
 
 namespace cdkit {
 
-template <class BV> class MeshModel {
+/// M is the mesh's scalar, by default the BV's. Float BVs over a double mesh (MeshModel<Obb<float>, double>)
+/// halve the tree's bytes; queries then run in double on the triangles and in float on the BVs, which are
+/// rounded outward so that culling stays conservative (bv/narrow_outward.hpp).
+template <class BV, class M = typename BV::Scalar> class MeshModel {
+    static_assert(detail::bv_fits_mesh_v<BV, M>, "a BV is stored in the mesh's scalar type, or in float over a double mesh");
+
 public:
-    using Scalar = typename BV::Scalar;
+    using Scalar = M;  ///< the mesh's scalar: poses and results use it
     using BoundingVolume = BV;
 
     /// Validates the mesh (throws cdkit::Error naming mesh->source on bad data) and builds the tree.
@@ -34,6 +41,7 @@ public:
     /// model is unchanged then. Not thread-safe against concurrent queries on this model.
     void refit(std::shared_ptr<const TriangleMesh<Scalar>> moved) {
         if (!moved) throw Error("<mesh>", "", "refit: null mesh");
+        check_bv_range(*moved);
         if (moved->vertices.size() != mesh_->vertices.size())
             throw Error(moved->source, "", "refit: vertex count " + std::to_string(moved->vertices.size()) +
                                                " differs from the model's " + std::to_string(mesh_->vertices.size()));
@@ -63,7 +71,19 @@ private:
     static std::shared_ptr<const TriangleMesh<Scalar>> checked(std::shared_ptr<const TriangleMesh<Scalar>> m) {
         if (!m) throw Error("<mesh>", "", "null mesh");
         cdkit::validate(*m);
+        check_bv_range(*m);
         return m;
+    }
+    /// Float BVs over a double mesh: every coordinate must stay far enough inside float's range that the
+    /// BV tests' squares do not overflow (|x|² < 2^128).
+    static void check_bv_range(const TriangleMesh<Scalar>& m) {
+        if constexpr (!std::is_same_v<typename BV::Scalar, Scalar>) {
+            constexpr double limit = 0x1p60;
+            for (std::size_t i = 0; i < m.vertices.size(); ++i)
+                if (!(m.vertices[i].cwiseAbs().maxCoeff() <= limit))
+                    throw Error(m.source, "vertex " + std::to_string(i),
+                                "coordinate beyond 2^60: too large for the float bounding volumes of this model");
+        }
     }
     std::shared_ptr<const TriangleMesh<Scalar>> mesh_;
     Bvh<BV> bvh_;

@@ -56,11 +56,12 @@ template <class S> [[nodiscard]] Obb<S> refit_inner(const Obb<S>& old, const Obb
     return m;
 }
 
-template <class BV> [[nodiscard]] BV refit_leaf(const BV&, const TriangleMesh<typename BV::Scalar>& mesh, TriangleRange tris) {
-    return BV::fit(mesh, tris);
+template <class BV, class M> [[nodiscard]] BV refit_leaf(const BV&, const TriangleMesh<M>& mesh, TriangleRange tris) {
+    return fit_over<BV>(mesh, tris);
 }
-template <class S> [[nodiscard]] Obb<S> refit_leaf(const Obb<S>& old, const TriangleMesh<S>& mesh, TriangleRange tris) {
-    return Obb<S>::fit_in_frame(mesh, tris, old.axes);
+template <class S, class M> [[nodiscard]] Obb<S> refit_leaf(const Obb<S>& old, const TriangleMesh<M>& mesh, TriangleRange tris) {
+    if constexpr (std::is_same_v<S, M>) return Obb<S>::fit_in_frame(mesh, tris, old.axes);
+    else return narrow_outward(Obb<M>::fit_in_frame(mesh, tris, old.axes.template cast<M>()));
 }
 }  // namespace detail
 
@@ -74,10 +75,10 @@ template <class BV> [[nodiscard]] double total_volume(const Bvh<BV>& bvh) noexce
 /// Σ node volume / the volume of a fresh fit of the whole mesh (the root a rebuild would get): how much the
 /// tree's volumes overlap and overhang. Scale invariant, so uniform growth of the mesh does not change it;
 /// O(n) plus one fit of all triangles.
-template <class BV> [[nodiscard]] double volume_ratio(const Bvh<BV>& bvh, const TriangleMesh<typename BV::Scalar>& mesh) {
+template <class BV, class M> [[nodiscard]] double volume_ratio(const Bvh<BV>& bvh, const TriangleMesh<M>& mesh) {
     if (bvh.empty()) return 0;
     const auto& order = bvh.triangle_order();
-    const double root = double(BV::fit(mesh, TriangleRange(order.data(), order.size())).volume());
+    const double root = double(detail::fit_over<BV>(mesh, TriangleRange(order.data(), order.size())).volume());
     return root > 0 ? total_volume(bvh) / root : 1.0;
 }
 
@@ -85,7 +86,7 @@ template <class BV> [[nodiscard]] double volume_ratio(const Bvh<BV>& bvh, const 
 /// in O(n). Throws cdkit::Error when the triangle count differs or a vertex is not finite. The triangles
 /// themselves are not compared here (MeshModel::refit does); a mesh with other triangles gives a valid but
 /// meaningless tree.
-template <class BV> void refit(Bvh<BV>& bvh, const TriangleMesh<typename BV::Scalar>& mesh) {
+template <class BV, class M> void refit(Bvh<BV>& bvh, const TriangleMesh<M>& mesh) {
     if (mesh.triangles.size() != bvh.triangle_order().size())
         throw Error(mesh.source, "", "refit: triangle count " + std::to_string(mesh.triangles.size()) +
                                          " differs from the tree's " + std::to_string(bvh.triangle_order().size()));

@@ -11,10 +11,13 @@
 /// grow-expansion) whose sign is the sign of its largest component; orient2d goes straight to the
 /// expansion, which is cheap in 2D. The code is written from the papers, not taken from predicates.c.
 ///
-/// Exactness range: the sign is exact for every finite input whose nonzero coordinates have magnitudes in
+/// Range: the floating-point stages are exact for input whose nonzero coordinates have magnitudes in
 /// [2^-280, 2^280] (about [5e-85, 2e84]); then no intermediate overflows, no rounded intermediate is
 /// subnormal, and every product's rounding error is representable. All finite `float` input lies in that
-/// range (floats are converted to double exactly). Outside it the result may be wrong (never UB).
+/// range (floats are converted to double exactly). A finite double outside it (a subnormal coordinate, as
+/// one ulp away from zero gives, or a huge one) goes to a last stage in wide integer arithmetic
+/// (detail/wide_integer.hpp), exact for every finite input; the public orient3d/orient2d and the triangle
+/// test check the range once per call. Non-finite input gives an unspecified sign (never UB).
 ///
 /// The code needs IEEE-754 double arithmetic with round-to-nearest and no reassociation: -ffast-math is
 /// rejected at compile time. FMA contraction (-ffp-contract=fast, GCC's default in GNU modes) is handled:
@@ -24,9 +27,13 @@
 /// fused operation only removes a rounding from the error analysis. (MSVC: /fp:contract with a target
 /// that has FMA but no __FMA__ macro is not supported.)
 
+#include "cdkit/core/detail/wide_integer.hpp"
 #include "cdkit/core/math.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <type_traits>
 
 #if defined(__FAST_MATH__)
@@ -518,6 +525,81 @@ inline double orient3d_accurate(const Point3d& a, const Point3d& b, const Point3
     return Orient3dPlaneAccurate(a, b, c).value(d);
 }
 
+// ---- the wide-range stage: any finite input ------------------------------------------------------
+
+/// Whether a finite x lies outside the floating-point stages' range (nonzero with |x| < 2^-280, or
+/// |x| > 2^280). Non-finite x: false, as no stage can give it meaning.
+[[nodiscard]] inline bool outside_predicate_range(double x) noexcept {
+    const double m = std::abs(x);
+    return (m < 0x1p-280 && m != 0.0) | ((m > 0x1p280) & (m <= std::numeric_limits<double>::max()));
+}
+template <std::size_t N> [[nodiscard]] inline bool any_outside_predicate_range(const double (&x)[N]) noexcept {
+    bool out = false;
+    for (double v : x) out |= outside_predicate_range(v);
+    return out;
+}
+
+/// The smallest lowest-set-bit exponent over x (every x is then an integer multiple of 2^result).
+template <std::size_t N> [[nodiscard]] inline int common_exponent(const double (&x)[N]) noexcept {
+    int base = std::numeric_limits<int>::max();
+    for (double v : x)
+        if (v != 0.0) base = std::min(base, WideInt::lowest_exponent(v));
+    return base == std::numeric_limits<int>::max() ? 0 : base;
+}
+
+/// A determinant's value for witness interpolation: the wide value in double, kept nonzero with its exact
+/// sign when it underflows, and finite when it overflows (callers only form ratios of such values).
+[[nodiscard]] inline double wide_value(const WideInt& det, int scale) noexcept {
+    const double v = det.to_double(scale);
+    const int s = det.sign();
+    if (s == 0) return 0.0;
+    if (v == 0.0) return s * std::numeric_limits<double>::denorm_min();
+    if (std::isinf(v)) return s * std::numeric_limits<double>::max();
+    return v;
+}
+
+/// Exact sign of det[a-d; b-d; c-d] for any finite input, in wide integers; `value` as in orient3d_filtered.
+CDKIT_PREDICATES_NOINLINE inline int orient3d_wide(const Point3d& a, const Point3d& b, const Point3d& c,
+                                                   const Point3d& d, double* value = nullptr) noexcept {
+    const double x[12] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z};
+    const int base = common_exponent(x);
+    WideInt w[12];
+    for (int i = 0; i < 12; ++i) w[i] = WideInt::from_double(x[i], base);
+    const WideInt adx = w[0] - w[9], ady = w[1] - w[10], adz = w[2] - w[11];
+    const WideInt bdx = w[3] - w[9], bdy = w[4] - w[10], bdz = w[5] - w[11];
+    const WideInt cdx = w[6] - w[9], cdy = w[7] - w[10], cdz = w[8] - w[11];
+    const WideInt det =
+        adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
+    if (value) *value = wide_value(det, 3 * base);
+    return det.sign();
+}
+
+/// Exact sign of det[a-c; b-c] for any finite input; `approx` as in orient2d_exact.
+CDKIT_PREDICATES_NOINLINE inline int orient2d_wide(const Point2d& a, const Point2d& b, const Point2d& c,
+                                                   double* approx = nullptr) noexcept {
+    const double x[6] = {a.x, a.y, b.x, b.y, c.x, c.y};
+    const int base = common_exponent(x);
+    WideInt w[6];
+    for (int i = 0; i < 6; ++i) w[i] = WideInt::from_double(x[i], base);
+    const WideInt det = (w[0] - w[4]) * (w[3] - w[5]) - (w[1] - w[5]) * (w[2] - w[4]);
+    if (approx) *approx = wide_value(det, 2 * base);
+    return det.sign();
+}
+
+/// orient3d with the exact sign for every finite input: the filtered stages within their range, else
+/// the wide stage.
+inline int orient3d_any_range(const Point3d& a, const Point3d& b, const Point3d& c, const Point3d& d,
+                              double* value = nullptr) noexcept {
+    const double x[12] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z};
+    if (any_outside_predicate_range(x)) return orient3d_wide(a, b, c, d, value);
+    return orient3d_filtered(a, b, c, d, value);
+}
+inline int orient2d_any_range(const Point2d& a, const Point2d& b, const Point2d& c, double* value = nullptr) noexcept {
+    const double x[6] = {a.x, a.y, b.x, b.y, c.x, c.y};
+    if (any_outside_predicate_range(x)) return orient2d_wide(a, b, c, value);
+    return orient2d_filtered(a, b, c, value);
+}
+
 template <class S> inline constexpr bool is_predicate_scalar_v = std::is_same_v<S, float> || std::is_same_v<S, double>;
 
 }  // namespace detail
@@ -526,7 +608,7 @@ template <class S> inline constexpr bool is_predicate_scalar_v = std::is_same_v<
 /// the plane, "below" meaning the side from which a, b, c appear clockwise (equivalently: a, b, c appear
 /// counterclockwise seen from above); −1 above; 0 when the four points are coplanar. It is the sign of
 /// det[a−d; b−d; c−d] = (a−d)·((b−d)×(c−d)), i.e. −sign((d−a)·((b−a)×(c−a))). In filtered_exact mode the
-/// sign is exact (range: see the file header); S is float or double.
+/// sign is exact for every finite input; S is float or double.
 template <class S>
 [[nodiscard]] int orient3d(const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c, const Vec3<S>& d,
                            PredicateMode mode = PredicateMode::filtered_exact) noexcept {
@@ -536,8 +618,8 @@ template <class S>
                                            detail::to_pt<S>(d));
         return (v > S(0)) - (v < S(0));
     }
-    return detail::orient3d_filtered(detail::to_pt<double>(a), detail::to_pt<double>(b), detail::to_pt<double>(c),
-                                     detail::to_pt<double>(d));
+    return detail::orient3d_any_range(detail::to_pt<double>(a), detail::to_pt<double>(b), detail::to_pt<double>(c),
+                                      detail::to_pt<double>(d));
 }
 
 /// Orientation of the 2D points a, b, c: +1 when they turn counterclockwise (c left of the directed line
@@ -551,9 +633,9 @@ template <class S>
                                            detail::Pt2<S>{c.x(), c.y()});
         return (v > S(0)) - (v < S(0));
     }
-    return detail::orient2d_filtered(detail::Point2d{double(a.x()), double(a.y())},
-                                     detail::Point2d{double(b.x()), double(b.y())},
-                                     detail::Point2d{double(c.x()), double(c.y())});
+    return detail::orient2d_any_range(detail::Point2d{double(a.x()), double(a.y())},
+                                      detail::Point2d{double(b.x()), double(b.y())},
+                                      detail::Point2d{double(c.x()), double(c.y())});
 }
 
 }  // namespace cdkit

@@ -6,23 +6,34 @@
 /// Support queries scan all vertices for small hulls and otherwise climb the vertex adjacency graph
 /// (a linear function has no local maximum on a convex polytope's graph that is not global; van den
 /// Bergen 2003, §4.3.4 "hill climbing").
+///
+/// It also keeps the boundary as polygons (coplanar facets merged by Qhull) with a face–edge–vertex
+/// adjacency, outward unit face normals and the edge and face Voronoi-plane directions that
+/// closest-feature tracking (narrowphase/closest_features.hpp) walks.
 
 #include <cdkit/core/error.hpp>
 #include <cdkit/core/math.hpp>
 #include <cdkit/narrowphase/support.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
+#include <map>
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace cdkit {
 
 namespace detail {
 /// Output of the hull builder: hull vertices (subset of the input, in double), outward-oriented triangles
-/// indexing them, and the input index each hull vertex came from.
+/// indexing them, the polygonal faces (coplanar facets merged; vertex loops counter-clockwise seen from
+/// outside; the triangles are their fans), and the input index each hull vertex came from.
 struct HullData {
     std::vector<Vec3<double>> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::vector<std::uint32_t>> faces;
     std::vector<std::uint32_t> source_index;
 };
 /// Builds the 3-D convex hull of `points`. Raises cdkit::Error for fewer than 4 points, non-finite
@@ -30,12 +41,21 @@ struct HullData {
 HullData convex_hull(const std::vector<Vec3<double>>& points);
 }  // namespace detail
 
+/// An edge of a polyhedron's boundary. `face_left` is the face whose counter-clockwise loop runs v0 → v1,
+/// `face_right` the one that runs v1 → v0. `side_left` / `side_right` are unit vectors in those faces'
+/// planes, perpendicular to the edge and pointing into the face: n_left × (v1 − v0) and (v1 − v0) × n_right,
+/// normalised. They bound the edge's external Voronoi region against the faces' regions.
+template <class S> struct PolyhedronEdge {
+    std::uint32_t v0 = 0, v1 = 0, face_left = 0, face_right = 0;
+    Vec3<S> side_left = Vec3<S>::Zero(), side_right = Vec3<S>::Zero();
+};
+
 /// A solid convex polyhedron: the convex hull of the given points, in their frame.
 template <class S = double> class ConvexPolyhedron {
 public:
     using Scalar = S;
     /// Hulls with at most this many vertices are searched by brute force; larger ones by hill climbing.
-    static constexpr std::size_t brute_force_limit = 48;
+    static constexpr std::size_t brute_force_limit = 24;
 
     /// Builds the hull of `points` (throws cdkit::Error on bad input, see detail::convex_hull).
     explicit ConvexPolyhedron(const std::vector<Vec3<S>>& points) {
@@ -49,15 +69,22 @@ public:
         Vec3<double> c = Vec3<double>::Zero();
         for (const auto& v : h.vertices) c += v;
         center_ = (c / double(h.vertices.size())).template cast<S>();
-        // Adjacency in CSR form, from the triangle edges (each undirected edge once per direction).
+        // Adjacency in CSR form, from the triangle edges, each neighbour once (an edge appears in two
+        // triangles, in both directions).
         std::vector<std::vector<std::uint32_t>> adj(vertices_.size());
         for (const auto& t : triangles_)
-            for (int k = 0; k < 3; ++k) adj[t[k]].push_back(t[(k + 1) % 3]);  // every edge appears in both
-        offsets_.assign(1, 0);                                                 // directions over the faces
+            for (int k = 0; k < 3; ++k) {
+                adj[t[k]].push_back(t[(k + 1) % 3]);
+                adj[t[(k + 1) % 3]].push_back(t[k]);
+            }
+        offsets_.assign(1, 0);
         for (auto& a : adj) {
+            std::sort(a.begin(), a.end());
+            a.erase(std::unique(a.begin(), a.end()), a.end());
             neighbours_.insert(neighbours_.end(), a.begin(), a.end());
             offsets_.push_back(std::uint32_t(neighbours_.size()));
         }
+        build_topology(h.faces);
         // Hill-climbing seeds: the extreme vertices along ±x, ±y, ±z.
         for (int axis = 0; axis < 3; ++axis)
             for (int sgn = -1; sgn <= 1; sgn += 2) {
@@ -78,15 +105,16 @@ public:
             S v = d.dot(vertices_[seeds_[k]]);
             if (v > best_dot) { best_dot = v; best = seeds_[k]; }
         }
-        // Climb; each step strictly increases d·x, so it stops after at most |V| steps.
-        for (bool moved = true; moved;) {
-            moved = false;
-            for (std::uint32_t e = offsets_[best]; e < offsets_[best + 1]; ++e) {
-                S v = d.dot(vertices_[neighbours_[e]]);
-                if (v > best_dot) { best_dot = v; best = neighbours_[e]; moved = true; }
+        // Climb to the best neighbour of the current vertex until none is better; each step strictly
+        // increases d·x, so it stops after at most |V| steps.
+        for (;;) {
+            const std::uint32_t from = best;
+            for (std::uint32_t e = offsets_[from]; e < offsets_[from + 1]; ++e) {
+                const S v = d.dot(vertices_[neighbours_[e]]);
+                if (v > best_dot) { best_dot = v; best = neighbours_[e]; }
             }
+            if (best == from) return best;
         }
-        return best;
     }
     /// The vertex average (an interior point).
     [[nodiscard]] Vec3<S> center() const noexcept { return center_; }
@@ -96,7 +124,115 @@ public:
         return triangles_;
     }
 
+
+    /// \name Boundary topology (faces are polygons; all directions are in the local frame)
+    /// @{
+    /// False when the face/edge structure failed its consistency checks (every edge in exactly two faces,
+    /// Euler's V − E + F = 2, unit face normals, every vertex a corner); then only the support map may be
+    /// used, and closest-feature tracking answers with GJK.
+    [[nodiscard]] bool has_topology() const noexcept { return topology_ok_; }
+    [[nodiscard]] std::size_t face_count() const noexcept { return face_normals_.size(); }
+    /// Vertex loop of face f, counter-clockwise seen from outside.
+    [[nodiscard]] std::span<const std::uint32_t> face_vertices(std::uint32_t f) const noexcept {
+        return {face_loop_.data() + face_begin_[f], face_begin_[f + 1] - face_begin_[f]};
+    }
+    /// Edge indices of face f's loop: entry k joins face_vertices(f)[k] and [k + 1] (cyclically).
+    [[nodiscard]] std::span<const std::uint32_t> face_edges(std::uint32_t f) const noexcept {
+        return {face_edge_.data() + face_begin_[f], face_begin_[f + 1] - face_begin_[f]};
+    }
+    /// Outward unit normal of face f and the plane offset: the face lies in {x : normal·x = offset}.
+    [[nodiscard]] const Vec3<S>& face_normal(std::uint32_t f) const noexcept { return face_normals_[f]; }
+    [[nodiscard]] S face_offset(std::uint32_t f) const noexcept { return face_offsets_[f]; }
+    /// Unit vector in face f's plane, perpendicular to edge e of f and pointing into f.
+    [[nodiscard]] const Vec3<S>& edge_inward(std::uint32_t e, std::uint32_t f) const noexcept {
+        return edges_[e].face_left == f ? edges_[e].side_left : edges_[e].side_right;
+    }
+    [[nodiscard]] const std::vector<PolyhedronEdge<S>>& edges() const noexcept { return edges_; }
+    /// Edges incident to vertex v, and for each the unit direction from v along it.
+    [[nodiscard]] std::span<const std::uint32_t> vertex_edges(std::uint32_t v) const noexcept {
+        return {vertex_edge_.data() + vertex_begin_[v], vertex_begin_[v + 1] - vertex_begin_[v]};
+    }
+    [[nodiscard]] std::span<const Vec3<S>> vertex_edge_directions(std::uint32_t v) const noexcept {
+        return {vertex_edge_dir_.data() + vertex_begin_[v], vertex_begin_[v + 1] - vertex_begin_[v]};
+    }
+    /// The largest |v| over the vertices (a scale for tolerances).
+    [[nodiscard]] S radius() const noexcept { return radius_; }
+    /// @}
+
 private:
+    void build_topology(const std::vector<std::vector<std::uint32_t>>& faces) {
+        radius_ = S(0);
+        for (const auto& v : vertices_) radius_ = std::max(radius_, S(v.norm()));
+        face_begin_.assign(1, 0);
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge_of;
+        bool ok = true;
+        for (std::uint32_t f = 0; f < faces.size(); ++f) {
+            const auto& loop = faces[f];
+            // Newell's normal: robust for polygons whose vertices are only nearly coplanar.
+            Vec3<S> n = Vec3<S>::Zero();
+            for (std::size_t k = 0; k < loop.size(); ++k)
+                n += vertices_[loop[k]].cross(vertices_[loop[(k + 1) % loop.size()]]);
+            const S len = n.norm();
+            ok = ok && len > S(0) && n.allFinite();
+            n = len > S(0) ? Vec3<S>(n / len) : Vec3<S>::Zero();
+            S off = S(0);
+            for (std::uint32_t v : loop) off += n.dot(vertices_[v]);
+            face_normals_.push_back(n);
+            face_offsets_.push_back(loop.empty() ? S(0) : off / S(loop.size()));
+            for (std::size_t k = 0; k < loop.size(); ++k) {
+                const std::uint32_t a = loop[k], b = loop[(k + 1) % loop.size()];
+                const auto key = std::minmax(a, b);
+                auto [it, inserted] = edge_of.try_emplace(key, std::uint32_t(edges_.size()));
+                if (inserted) {
+                    PolyhedronEdge<S> e;
+                    e.v0 = key.first;
+                    e.v1 = key.second;
+                    e.face_left = e.face_right = std::uint32_t(-1);
+                    edges_.push_back(e);
+                }
+                PolyhedronEdge<S>& e = edges_[it->second];
+                std::uint32_t& slot = a < b ? e.face_left : e.face_right;
+                ok = ok && slot == std::uint32_t(-1);
+                slot = f;
+                face_loop_.push_back(a);
+                face_edge_.push_back(it->second);
+            }
+            face_begin_.push_back(std::uint32_t(face_loop_.size()));
+        }
+        std::vector<std::vector<std::uint32_t>> incident(vertices_.size());
+        for (std::uint32_t i = 0; i < edges_.size(); ++i) {
+            PolyhedronEdge<S>& e = edges_[i];
+            ok = ok && e.face_left != std::uint32_t(-1) && e.face_right != std::uint32_t(-1) && e.v0 != e.v1;
+            if (!ok) break;
+            const Vec3<S> t = vertices_[e.v1] - vertices_[e.v0];
+            e.side_left = detail::safe_normalized(Vec3<S>(face_normals_[e.face_left].cross(t)));
+            e.side_right = detail::safe_normalized(Vec3<S>(t.cross(face_normals_[e.face_right])));
+            incident[e.v0].push_back(i);
+            incident[e.v1].push_back(i);
+        }
+        ok = ok && vertices_.size() + faces.size() == edges_.size() + 2;  // Euler: V − E + F = 2
+        vertex_begin_.assign(1, 0);
+        for (std::uint32_t v = 0; ok && v < incident.size(); ++v) {
+            // A vertex's normal cone is only described by its edges when it is a corner (extreme point):
+            // then the mean of its face normals makes an obtuse angle with every edge. A vertex in the middle
+            // of an edge or face would accept inward directions, so such a hull gets no topology.
+            Vec3<S> mean = Vec3<S>::Zero();
+            for (std::uint32_t e : incident[v])
+                mean += face_normals_[edges_[e].face_left] + face_normals_[edges_[e].face_right];
+            mean = detail::safe_normalized(mean);
+            ok = ok && incident[v].size() >= 3;
+            for (std::uint32_t e : incident[v]) {
+                const std::uint32_t u = edges_[e].v0 == v ? edges_[e].v1 : edges_[e].v0;
+                const Vec3<S> dir = detail::safe_normalized(Vec3<S>(vertices_[u] - vertices_[v]));
+                ok = ok && mean.dot(dir) < -S(64) * std::numeric_limits<S>::epsilon();
+                vertex_edge_.push_back(e);
+                vertex_edge_dir_.push_back(dir);
+            }
+            vertex_begin_.push_back(std::uint32_t(vertex_edge_.size()));
+        }
+        topology_ok_ = ok;
+    }
+
     [[nodiscard]] std::uint32_t brute_force_index(const Vec3<S>& d) const noexcept {
         std::uint32_t best = 0;
         S best_dot = d.dot(vertices_[0]);
@@ -111,6 +247,15 @@ private:
     std::vector<std::uint32_t> offsets_, neighbours_;
     std::array<std::uint32_t, 6> seeds_{};
     Vec3<S> center_ = Vec3<S>::Zero();
+    // Boundary topology in CSR form (see the accessors).
+    std::vector<std::uint32_t> face_begin_, face_loop_, face_edge_;
+    std::vector<Vec3<S>> face_normals_;
+    std::vector<S> face_offsets_;
+    std::vector<PolyhedronEdge<S>> edges_;
+    std::vector<std::uint32_t> vertex_begin_, vertex_edge_;
+    std::vector<Vec3<S>> vertex_edge_dir_;
+    S radius_ = S(0);
+    bool topology_ok_ = false;
 };
 
 }  // namespace cdkit

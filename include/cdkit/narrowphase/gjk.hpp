@@ -15,6 +15,13 @@
 /// Shapes with a margin (spheres, capsules, `Inflated`) run on their cores; the margins are subtracted at
 /// the end, which makes sphere and capsule results exact rather than asymptotic.
 ///
+/// Cost measures (after Montaut et al. 2022, whose GJK beat libccd's by avoiding copies and stopping
+/// boolean queries at the first separating plane): the sub-simplex step only selects indices and weights and
+/// moves the surviving vertices once, when the step is accepted (no simplex copy per iteration, no per-face
+/// copies in the tetrahedron case); the boolean query tests every support point for a separating plane,
+/// the first one included; the warm start rebuilds the last simplex from its stored support points without
+/// support queries (they are points of the shapes, so all bounds stay certified).
+///
 /// All queries are noexcept, const on their inputs and thread-safe; the only mutable state is the
 /// caller-owned `GjkCache`.
 
@@ -44,21 +51,33 @@ template <class S = double> struct GjkSettings {
     S rel_tolerance = std::max(S(1e-10), S(64) * std::numeric_limits<S>::epsilon());
     /// Distances within touch_factor·ε·(size of D) of zero count as touching.
     S touch_factor = S(256);
+    /// Boolean queries with a cache: accept a separating plane only once its gap is at least this fraction
+    /// of the distance upper bound (0 = at the first separating plane), so that the direction cached for the
+    /// next frame still separates after a small motion. No effect on the answer, only on the work split.
+    S warm_exit_quality = S(0.5);
 };
 
-/// Caller-owned warm start (van den Bergen 1999 §5, "frame coherence"): the search directions that
-/// produced the last final simplex, in A's frame. The next query re-evaluates the supports along them
-/// (with the new poses) to seed its simplex, so coherent motion usually needs one or two iterations.
-/// Keep one per shape pair; a query reads and updates it. Not shared between threads.
+/// Caller-owned warm start (van den Bergen 1999 §5, "frame coherence"): the last final simplex, as the
+/// search directions that produced it (in A's frame) and its support points on the two cores (each in its
+/// own shape's local frame). The next query rebuilds the simplex from the stored points under the new
+/// poses, without a support query: they are still points of A and B, so the rebuilt simplex lies in A − B
+/// and every bound GJK derives from it stays valid; only its closeness to the answer depends on coherence.
+/// The points are only reused for the same two shape objects (their addresses are kept); for others the
+/// directions are re-evaluated. Keep one per shape pair, and reset it (`size = 0`) when a shape's geometry
+/// changes in place. A query reads and updates it. Not shared between threads.
 template <class S = double> struct GjkCache {
     std::array<Vec3<S>, 4> directions{};
     int size = 0;
+    std::array<Vec3<S>, 4> point_a{}, point_b{};  ///< core support points, local frames of A and B
+    const void* shape_a = nullptr;                ///< the shapes the points belong to
+    const void* shape_b = nullptr;
 };
 
 /// One simplex vertex: w = a − b with a ∈ A, b ∈ B, found as the support of A − B along d
 /// (all in A's frame).
 template <class S> struct GjkVertex {
     Vec3<S> w, a, b, d;
+    Vec3<S> b_local;  ///< the same point of B in B's own frame (kept exactly for the warm start)
 };
 
 /// The simplex GJK ended with, its barycentric weights and size (1..4), in A's local frame.
@@ -75,7 +94,9 @@ template <class S> struct GjkResult {
     /// Separation distance (≥ 0; 0 when touching or intersecting). `gjk_intersect` only sets it when it
     /// had to converge; after an early "separated" exit it holds a lower bound (> 0).
     S distance = S(0);
-    /// Closest points on A and on B in the world frame (valid when separated or touching).
+    /// Closest points on A and on B in the world frame (valid when separated or touching). After
+    /// gjk_intersect's early exit: A's and B's extreme points along `normal` (the planes through them
+    /// orthogonal to `normal` separate the shapes), not the closest points.
     Vec3<S> point_a = Vec3<S>::Zero(), point_b = Vec3<S>::Zero();
     /// Unit direction from A towards B in the world frame (valid when separated; after gjk_intersect's early
     /// exit it is a separating direction, not necessarily the closest-point direction).
@@ -89,70 +110,97 @@ template <class S> struct GjkResult {
 
 namespace detail {
 
-/// Closest point to the origin on segment/triangle/tetrahedron `s`; reduces `s` to the smallest
-/// sub-simplex holding that point and sets its barycentric weights. Returns true when the origin lies
-/// inside a full-dimensional tetrahedron (then `v` is zero and `s` is unchanged).
+/// Closest point to the origin on the simplex `s` (point, segment, triangle or tetrahedron), computed
+/// without touching `s`: the result names the vertices of the smallest sub-simplex holding that point (by
+/// index into `s`, ascending) with their barycentric weights. The caller applies it only when it accepts
+/// the step, so GJK's "no progress: keep the previous simplex" rule needs no copy of the simplex, and the
+/// tetrahedron case evaluates its faces in place instead of copying each into a temporary simplex.
+template <class S> struct SimplexSelection {
+    std::array<int, 4> idx{};
+    std::array<S, 4> lambda{};
+    int size = 0;
+    bool inside = false;  ///< origin inside a full-dimensional tetrahedron (v = 0, nothing dropped)
+    Vec3<S> v = Vec3<S>::Zero();
+};
+
 template <class S> class SimplexSolver {
 public:
-    static void point(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
-        s.size = 1;
-        s.lambda[0] = S(1);
-        v = s.v[0].w;
+    using Sel = SimplexSelection<S>;
+
+    static void point(const GjkSimplex<S>& s, int i, Sel& r) noexcept {
+        r.size = 1;
+        r.idx[0] = i;
+        r.lambda[0] = S(1);
+        r.v = s.v[std::size_t(i)].w;
     }
 
-    static void segment(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
-        const Vec3<S>& p0 = s.v[0].w;
-        Vec3<S> d = s.v[1].w - p0;
-        S dd = d.squaredNorm();
-        S t = dd > S(0) ? -p0.dot(d) / dd : S(0);
-        if (!(t > S(0))) { point(s, v); return; }
-        if (t >= S(1)) { s.v[0] = s.v[1]; point(s, v); return; }
-        s.size = 2;
-        s.lambda[0] = S(1) - t;
-        s.lambda[1] = t;
-        v = p0 + t * d;
-    }
-
-    /// Voronoi-region walk over a triangle (Ericson, "Real-Time Collision Detection", 2005, §5.1.5).
-    static void triangle(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
-        const Vec3<S>& a = s.v[0].w;
-        const Vec3<S>& b = s.v[1].w;
-        const Vec3<S>& c = s.v[2].w;
-        Vec3<S> ab = b - a, ac = c - a;
-        S d1 = -ab.dot(a), d2 = -ac.dot(a);
-        if (d1 <= S(0) && d2 <= S(0)) { point(s, v); return; }
-        S d3 = -ab.dot(b), d4 = -ac.dot(b);
-        if (d3 >= S(0) && d4 <= d3) { s.v[0] = s.v[1]; point(s, v); return; }
-        S vc = d1 * d4 - d3 * d2;
-        if (vc <= S(0) && d1 >= S(0) && d3 <= S(0)) { s.size = 2; segment(s, v); return; }
-        S d5 = -ab.dot(c), d6 = -ac.dot(c);
-        if (d6 >= S(0) && d5 <= d6) { s.v[0] = s.v[2]; point(s, v); return; }
-        S vb = d5 * d2 - d1 * d6;
-        if (vb <= S(0) && d2 >= S(0) && d6 <= S(0)) { s.v[1] = s.v[2]; segment(s, v); return; }
-        S va = d3 * d6 - d5 * d4;
-        if (va <= S(0) && (d4 - d3) >= S(0) && (d5 - d6) >= S(0)) {
-            s.v[0] = s.v[2];  // edge b–c
-            segment(s, v);
-            return;
+    /// Segment i0–i1 (the closest point is measured from i0, as in the classic formulation).
+    static void segment(const GjkSimplex<S>& s, int i0, int i1, Sel& r) noexcept {
+        const Vec3<S>& p0 = s.v[std::size_t(i0)].w;
+        const Vec3<S> d = s.v[std::size_t(i1)].w - p0;
+        const S dd = d.squaredNorm();
+        const S t = dd > S(0) ? -p0.dot(d) / dd : S(0);
+        if (!(t > S(0))) { point(s, i0, r); return; }
+        if (t >= S(1)) { point(s, i1, r); return; }
+        r.size = 2;
+        r.v = p0 + t * d;
+        if (i0 < i1) {
+            r.idx[0] = i0; r.idx[1] = i1; r.lambda[0] = S(1) - t; r.lambda[1] = t;
+        } else {
+            r.idx[0] = i1; r.idx[1] = i0; r.lambda[0] = t; r.lambda[1] = S(1) - t;
         }
-        S denom = va + vb + vc;
-        Vec3<S> n = ab.cross(ac);
-        S nn = n.squaredNorm();
+    }
+
+    /// Voronoi-region walk over triangle i0, i1, i2 (Ericson, "Real-Time Collision Detection", 2005,
+    /// §5.1.5).
+    static void triangle(const GjkSimplex<S>& s, int i0, int i1, int i2, Sel& r) noexcept {
+        const Vec3<S>& a = s.v[std::size_t(i0)].w;
+        const Vec3<S>& b = s.v[std::size_t(i1)].w;
+        const Vec3<S>& c = s.v[std::size_t(i2)].w;
+        const Vec3<S> ab = b - a, ac = c - a;
+        const S d1 = -ab.dot(a), d2 = -ac.dot(a);
+        if (d1 <= S(0) && d2 <= S(0)) { point(s, i0, r); return; }
+        const S d3 = -ab.dot(b), d4 = -ac.dot(b);
+        if (d3 >= S(0) && d4 <= d3) { point(s, i1, r); return; }
+        const S vc = d1 * d4 - d3 * d2;
+        if (vc <= S(0) && d1 >= S(0) && d3 <= S(0)) { segment(s, i0, i1, r); return; }
+        const S d5 = -ab.dot(c), d6 = -ac.dot(c);
+        if (d6 >= S(0) && d5 <= d6) { point(s, i2, r); return; }
+        const S vb = d5 * d2 - d1 * d6;
+        if (vb <= S(0) && d2 >= S(0) && d6 <= S(0)) { segment(s, i0, i2, r); return; }
+        const S va = d3 * d6 - d5 * d4;
+        if (va <= S(0) && (d4 - d3) >= S(0) && (d5 - d6) >= S(0)) { segment(s, i2, i1, r); return; }
+        const S denom = va + vb + vc;
+        const Vec3<S> n = ab.cross(ac);
+        const S nn = n.squaredNorm();
         if (!(denom > S(0)) || !(nn > S(0))) {
             // Degenerate (collinear) triangle that the region tests did not resolve: best edge.
-            best_of_edges(s, v);
+            Sel e;
+            S best = std::numeric_limits<S>::infinity();
+            const int edges[3][2] = {{i0, i1}, {i1, i2}, {i0, i2}};
+            for (const auto& ed : edges) {
+                segment(s, ed[0], ed[1], e);
+                const S dd = e.v.squaredNorm();
+                if (dd < best) { best = dd; r = e; }
+            }
+            if (!(best < std::numeric_limits<S>::infinity())) segment(s, i0, i1, r);  // NaN data: any edge
             return;
         }
-        s.size = 3;
-        s.lambda[1] = vb / denom;
-        s.lambda[2] = vc / denom;
-        s.lambda[0] = S(1) - s.lambda[1] - s.lambda[2];
+        // Weights in ascending index order.
+        const S l1 = vb / denom, l2 = vc / denom;
+        const int ids[3] = {i0, i1, i2};
+        const S lam[3] = {S(1) - l1 - l2, l1, l2};
+        int o[3] = {0, 1, 2};
+        if (ids[o[0]] > ids[o[1]]) std::swap(o[0], o[1]);
+        if (ids[o[1]] > ids[o[2]]) std::swap(o[1], o[2]);
+        if (ids[o[0]] > ids[o[1]]) std::swap(o[0], o[1]);
+        r.size = 3;
+        for (int k = 0; k < 3; ++k) { r.idx[std::size_t(k)] = ids[o[k]]; r.lambda[std::size_t(k)] = lam[o[k]]; }
         // The plane projection is more accurate than the barycentric sum when v is small against a, b, c.
-        v = n * (n.dot(a) / nn);
+        r.v = n * (n.dot(a) / nn);
     }
 
-    /// Returns true when the origin is inside the tetrahedron.
-    static bool tetrahedron(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
+    static void tetrahedron(const GjkSimplex<S>& s, Sel& r) noexcept {
         static constexpr int faces[4][4] = {{0, 1, 2, 3}, {0, 3, 1, 2}, {0, 2, 3, 1}, {1, 3, 2, 0}};
         const S eps = std::numeric_limits<S>::epsilon();
         // A (numerically) flat tetrahedron cannot prove the origin inside: face normals built from nearly
@@ -160,70 +208,66 @@ public:
         // test compares the volume with ε·scale³ (treating a thin-but-real tetrahedron as flat is safe: it
         // only sends the search to the faces).
         S scale = S(0);
-        for (int i = 0; i < 4; ++i) scale = std::max(scale, s.v[i].w.cwiseAbs().maxCoeff());
-        S vol6 = (s.v[1].w - s.v[0].w).dot((s.v[2].w - s.v[0].w).cross(s.v[3].w - s.v[0].w));
+        for (std::size_t i = 0; i < 4; ++i) scale = std::max(scale, s.v[i].w.cwiseAbs().maxCoeff());
+        const S vol6 = (s.v[1].w - s.v[0].w).dot((s.v[2].w - s.v[0].w).cross(s.v[3].w - s.v[0].w));
         const bool flat = !(std::abs(vol6) > S(256) * eps * scale * scale * scale);
         bool outside[4];
         bool any = false;
         for (int f = 0; f < 4; ++f) {
-            const Vec3<S>& p = s.v[faces[f][0]].w;
-            Vec3<S> n = (s.v[faces[f][1]].w - p).cross(s.v[faces[f][2]].w - p);
-            S side_l = n.dot(s.v[faces[f][3]].w - p);
-            S side_o = -n.dot(p);
+            const Vec3<S>& p = s.v[std::size_t(faces[f][0])].w;
+            const Vec3<S> n = (s.v[std::size_t(faces[f][1])].w - p).cross(s.v[std::size_t(faces[f][2])].w - p);
+            const S side_l = n.dot(s.v[std::size_t(faces[f][3])].w - p);
+            const S side_o = -n.dot(p);
             outside[f] = flat || !(side_o * side_l > S(0));
             any = any || outside[f];
         }
         if (!any) {
-            v.setZero();
-            return true;
+            r.inside = true;
+            r.size = 4;
+            r.v.setZero();
+            return;
         }
-        GjkSimplex<S> best{};
-        Vec3<S> best_v = Vec3<S>::Zero();
         S best_d = std::numeric_limits<S>::infinity();
+        bool found = false;
+        Sel t;
         for (int f = 0; f < 4; ++f) {
             if (!outside[f]) continue;
-            GjkSimplex<S> t{};
-            t.v[0] = s.v[faces[f][0]];
-            t.v[1] = s.v[faces[f][1]];
-            t.v[2] = s.v[faces[f][2]];
-            t.size = 3;
-            Vec3<S> tv;
-            triangle(t, tv);
-            S d = tv.squaredNorm();
-            if (d < best_d) { best_d = d; best = t; best_v = tv; }
+            triangle(s, faces[f][0], faces[f][1], faces[f][2], t);
+            const S d = t.v.squaredNorm();
+            if (d < best_d || !found) { best_d = d; r = t; found = true; }
         }
-        s = best;
-        v = best_v;
-        return false;
     }
 
-    /// Dispatch on s.size (2..4) after a vertex was appended.
-    static bool solve(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
+    /// Closest point of the whole simplex `s` (size 1..4).
+    static void select(const GjkSimplex<S>& s, Sel& r) noexcept {
+        r.inside = false;
         switch (s.size) {
-            case 1: point(s, v); return false;
-            case 2: segment(s, v); return false;
-            case 3: triangle(s, v); return false;
-            default: return tetrahedron(s, v);
+            case 1: point(s, 0, r); return;
+            case 2: segment(s, 0, 1, r); return;
+            case 3: triangle(s, 0, 1, 2, r); return;
+            default: tetrahedron(s, r); return;
         }
     }
 
-private:
-    static void best_of_edges(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
-        static constexpr int edges[3][2] = {{0, 1}, {1, 2}, {0, 2}};
-        S best_d = std::numeric_limits<S>::infinity();
-        GjkSimplex<S> best{};
-        Vec3<S> best_v = Vec3<S>::Zero();
-        for (const auto& e : edges) {
-            GjkSimplex<S> t{};
-            t.v[0] = s.v[e[0]];
-            t.v[1] = s.v[e[1]];
-            t.size = 2;
-            Vec3<S> tv;
-            segment(t, tv);
-            if (tv.squaredNorm() < best_d) { best_d = tv.squaredNorm(); best = t; best_v = tv; }
+    /// Reduces `s` to the selection (indices ascending, so moving down in place is safe).
+    static void apply(GjkSimplex<S>& s, const Sel& r) noexcept {
+        if (r.inside) return;
+        for (int k = 0; k < r.size; ++k) {
+            const std::size_t from = std::size_t(r.idx[std::size_t(k)]);
+            if (from != std::size_t(k)) s.v[std::size_t(k)] = s.v[from];
+            s.lambda[std::size_t(k)] = r.lambda[std::size_t(k)];
         }
-        s = best;
-        v = best_v;
+        s.size = r.size;
+    }
+
+    /// Reduces `s` to the sub-simplex holding its closest point `v`; true when the origin is inside a
+    /// full-dimensional tetrahedron (then `v` is zero and `s` is unchanged).
+    static bool solve(GjkSimplex<S>& s, Vec3<S>& v) noexcept {
+        Sel r;
+        select(s, r);
+        apply(s, r);
+        v = r.v;
+        return r.inside;
     }
 };
 
@@ -238,11 +282,12 @@ inline GjkVertex<typename A::Scalar> minkowski_support(const A& a, const B& b,
     Vec3<S> db = -(rel.R.transpose() * d);
     if constexpr (use_cores) {
         x.a = core_support(a, d);
-        x.b = rel * Vec3<S>(core_support(b, db));
+        x.b_local = core_support(b, db);
     } else {
         x.a = a.support(d);
-        x.b = rel * Vec3<S>(b.support(db));
+        x.b_local = b.support(db);
     }
+    x.b = rel * x.b_local;
     x.w = x.a - x.b;
     x.d = d;
     return x;
@@ -251,13 +296,21 @@ inline GjkVertex<typename A::Scalar> minkowski_support(const A& a, const B& b,
 /// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0 enables the boolean early exit: stop as
 /// soon as a plane proves the core distance exceeds it. Returns the status on the cores; `v` is the
 /// final closest point, `size` the largest |w| seen (the scale for tolerances).
+///
+/// The boolean exit tests every support point, the very first one and the warm start's included: for any
+/// direction u, w = s_D(−u) minimises u·x over D, so u·w/|u| > 0 is a separating plane whether or not u is
+/// the closest point of the current simplex (distant pairs are then decided by one support pair, and a
+/// coherent pair by the cached direction that separated it the frame before).
 template <bool use_cores, SupportMapped A, SupportMapped B>
 inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
                           const GjkSettings<typename A::Scalar>& settings, GjkCache<typename A::Scalar>* cache,
                           bool boolean, typename A::Scalar early_exit_margin, GjkSimplex<typename A::Scalar>& s,
                           Vec3<typename A::Scalar>& v, typename A::Scalar& size, int& iterations,
-                          typename A::Scalar& lower_bound) noexcept {
+                          typename A::Scalar& lower_bound, typename A::Scalar exit_quality = 0,
+                          GjkVertex<typename A::Scalar>* exit_support = nullptr,
+                          bool retry_cached_direction = true) noexcept {
     using S = typename A::Scalar;
+    using Solver = SimplexSolver<S>;
     const S eps = std::numeric_limits<S>::epsilon();
     v = Vec3<S>(Vec3<S>(a.center()) - rel * Vec3<S>(b.center()));
     if (!(v.squaredNorm() > S(0)) || !v.allFinite()) v = Vec3<S>::UnitX();
@@ -267,37 +320,103 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     iterations = 0;
     S vv = std::numeric_limits<S>::infinity();
     GjkStatus status = GjkStatus::max_iterations;
+    // Boolean exit on the support point x found along −u: true when the plane proves separation.
+    // With `exit_quality` κ > 0 (warm-started queries) a plane is only accepted once its gap is at least κ
+    // times the upper bound |v| − margin, so the direction cached for the next frame keeps a margin under
+    // coherent motion instead of barely separating (the cached-direction test itself is exempt).
+    auto separates = [&](const Vec3<S>& u, const GjkVertex<S>& x, bool check_quality) {
+        const S un = u.norm();
+        if (!(un > S(0))) return false;
+        lower_bound = std::max(lower_bound, u.dot(x.w) / un);
+        // Same threshold as gjk_query applies to the early exit.
+        if (!(boolean &&
+              lower_bound > early_exit_margin + settings.touch_factor * eps * std::max(size, early_exit_margin)))
+            return false;
+        if (!check_quality || !(exit_quality > S(0))) return true;
+        return s.size > 0 && lower_bound - early_exit_margin >= exit_quality * (un - early_exit_margin);
+    };
+    auto store = [&](const GjkVertex<S>* first) {
+        if (!cache) return;
+        int k = 0;
+        auto put = [&](const GjkVertex<S>& x) {
+            cache->directions[std::size_t(k)] = x.d;
+            cache->point_a[std::size_t(k)] = x.a;
+            cache->point_b[std::size_t(k)] = x.b_local;
+            ++k;
+        };
+        if (first) put(*first);
+        for (int i = 0; i < s.size && k < 4; ++i) put(s.v[std::size_t(i)]);
+        cache->size = k;
+        cache->shape_a = &a;
+        cache->shape_b = &b;
+    };
+    typename Solver::Sel sel;
     if (cache && cache->size > 0) {
-        // Warm start: rebuild the last simplex from its search directions under the new poses.
-        for (int i = 0; i < std::min(cache->size, 4); ++i) {
-            GjkVertex<S> x = minkowski_support<use_cores>(a, b, rel, cache->directions[std::size_t(i)]);
-            bool dup = !x.w.allFinite();
-            for (int j = 0; j < s.size; ++j) dup = dup || s.v[j].w == x.w;
-            if (!dup) { s.v[s.size++] = x; size = std::max(size, x.w.norm()); }
+        const int n = std::min(cache->size, 4);
+        const bool same = cache->shape_a == static_cast<const void*>(&a) &&
+                          cache->shape_b == static_cast<const void*>(&b);
+        for (int i = 0; i < n; ++i) {
+            GjkVertex<S> x;
+            if (boolean && i == 0 && retry_cached_direction) {
+                // Boolean: first the direction cached first (the last separating one) with a fresh support
+                // pair; under coherent motion it usually still separates, which settles the query.
+                x = minkowski_support<use_cores>(a, b, rel, cache->directions[0]);
+                if (!x.w.allFinite()) continue;
+                size = std::max(size, x.w.norm());
+                if (separates(Vec3<S>(-x.d), x, false)) {
+                    v = -x.d;
+                    s.size = 0;
+                    if (exit_support) *exit_support = x;
+                    return GjkStatus::separated;
+                }
+            } else if (same) {
+                // The stored support points under the new poses: points of D, no support query.
+                x.a = cache->point_a[std::size_t(i)];
+                x.b_local = cache->point_b[std::size_t(i)];
+                x.b = rel * x.b_local;
+                x.w = x.a - x.b;
+                x.d = cache->directions[std::size_t(i)];
+            } else {
+                x = minkowski_support<use_cores>(a, b, rel, cache->directions[std::size_t(i)]);
+            }
+            if (!x.w.allFinite()) continue;
+            size = std::max(size, x.w.norm());
+            bool dup = false;
+            for (int j = 0; j < s.size; ++j) dup = dup || s.v[std::size_t(j)].w == x.w;
+            if (!dup) s.v[std::size_t(s.size++)] = x;
         }
         if (s.size > 0) {
-            Vec3<S> nv;
-            if (SimplexSolver<S>::solve(s, nv)) {
+            Solver::select(s, sel);
+            if (sel.inside) {
+                // Four points of D around the origin: overlap, without a support query when reused.
                 v.setZero();
-                return GjkStatus::intersecting;  // cache still holds the same (useful) directions
+                store(nullptr);
+                return GjkStatus::intersecting;
             }
-            v = nv;
+            Solver::apply(s, sel);
+            v = sel.v;
             vv = v.squaredNorm();
             if (!(vv > S(0))) { s.size = 0; vv = std::numeric_limits<S>::infinity(); v = Vec3<S>::UnitX(); }
         }
     }
     for (int it = 0; it < settings.max_iterations; ++it) {
         iterations = it + 1;
-        GjkVertex<S> x = minkowski_support<use_cores>(a, b, rel, Vec3<S>(-v));
+        const Vec3<S> d = -v;
+        GjkVertex<S> x = minkowski_support<use_cores>(a, b, rel, d);
         if (!x.w.allFinite()) { status = GjkStatus::degenerate; break; }
         size = std::max(size, x.w.norm());
         const S tiny = settings.touch_factor * eps * size;
+        if (boolean && separates(v, x, true)) {
+            status = GjkStatus::separated;
+            if (exit_support) *exit_support = x;
+            store(&x);
+            return status;
+        }
         if (s.size > 0) {
-            S vn = std::sqrt(vv);
-            S vw = v.dot(x.w);
+            const S vn = std::sqrt(vv);
+            const S vw = v.dot(x.w);
             // v·w/|v| is a lower bound on the distance (the plane through w orthogonal to v supports D).
             lower_bound = std::max(lower_bound, vw / vn);
-            if (boolean && lower_bound > early_exit_margin + tiny) { status = GjkStatus::separated; break; }
             // Converged: the gap between upper bound |v| and the lower bound is within tolerance (the
             // ε·|v|·size term is the rounding floor of v·w).
             if (vv - vw <= settings.rel_tolerance * vv + S(16) * eps * vn * size) {
@@ -305,32 +424,27 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
                 break;
             }
             bool duplicate = false;
-            for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.v[i].w == x.w;
+            for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.v[std::size_t(i)].w == x.w;
             if (duplicate) { status = GjkStatus::separated; break; }
         }
-        GjkSimplex<S> saved = s;
-        Vec3<S> saved_v = v;
-        s.v[s.size++] = x;
-        Vec3<S> nv;
-        bool inside = SimplexSolver<S>::solve(s, nv);
-        if (inside) { v.setZero(); status = GjkStatus::intersecting; break; }
-        S nvv = nv.squaredNorm();
-        if (!(nvv == nvv)) { s = saved; v = saved_v; status = GjkStatus::degenerate; break; }
-        if (nvv <= tiny * tiny) { v = nv; status = GjkStatus::touching; break; }
-        if (saved.size > 0 && !(nvv < vv)) {
-            // No progress: rounding floor reached; keep the better previous simplex.
-            s = saved;
-            v = saved_v;
+        const int old_size = s.size;
+        s.v[std::size_t(s.size++)] = x;
+        Solver::select(s, sel);
+        if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
+        const S nvv = sel.v.squaredNorm();
+        if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
+        if (nvv <= tiny * tiny) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
+        if (old_size > 0 && !(nvv < vv)) {
+            // No progress: rounding floor reached; keep the better previous simplex (untouched by select).
+            s.size = old_size;
             status = GjkStatus::separated;
             break;
         }
-        v = nv;
+        Solver::apply(s, sel);
+        v = sel.v;
         vv = nvv;
     }
-    if (cache) {
-        cache->size = s.size;
-        for (int i = 0; i < s.size; ++i) cache->directions[std::size_t(i)] = s.v[std::size_t(i)].d;
-    }
+    store(nullptr);
     return status;
 }
 
@@ -339,21 +453,32 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
                                                const Transform<typename A::Scalar>& pose_b,
                                                GjkCache<typename A::Scalar>* cache,
                                                const GjkSettings<typename A::Scalar>& settings,
-                                               bool boolean) noexcept {
+                                               bool boolean, bool retry_cached_direction = true) noexcept {
     using S = typename A::Scalar;
     const Transform<S> rel = pose_a.inverse() * pose_b;
     const S margin = margin_of(a) + margin_of(b);
     GjkResult<S> r;
     Vec3<S> v;
     S size, lower;
+    GjkVertex<S> sep;
+    sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
     GjkStatus st = gjk_loop<true>(a, b, rel, settings, cache, boolean, margin, r.simplex, v, size, r.iterations,
-                                  lower);
+                                  lower, boolean && cache ? settings.warm_exit_quality : S(0), &sep,
+                                  retry_cached_direction);
     const S tiny = settings.touch_factor * std::numeric_limits<S>::epsilon() * std::max(size, margin);
     if (boolean && st == GjkStatus::separated && lower > margin + tiny) {
         r.status = GjkStatus::separated;
         r.distance = lower - margin;
         const S vn = v.norm();
-        if (vn > S(0)) r.normal = pose_a.R * Vec3<S>(-v / vn);  // a separating direction, A towards B
+        if (vn > S(0)) {
+            const Vec3<S> n = -v / vn;
+            r.normal = pose_a.R * n;  // a separating direction, A towards B
+            if (sep.w.allFinite()) {
+                // The supporting points of that plane: A's extreme towards B and B's towards A.
+                r.point_a = pose_a * Vec3<S>(sep.a + margin_of(a) * n);
+                r.point_b = pose_a * Vec3<S>(sep.b - margin_of(b) * n);
+            }
+        }
         return r;
     }
     // Witness points on the cores, then push them out by the margins along the normal.

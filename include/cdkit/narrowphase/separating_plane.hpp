@@ -5,10 +5,12 @@
 /// "The separating planes algorithm"), built on the perceptron rule (Rosenblatt 1958; finite convergence for
 /// separable sets, Novikoff 1962). A plane H = {x : n·x + c = 0} with A on its front (n·a + c > 0) and B on
 /// its back is kept per pair. Each query checks it with one support query per shape (the most offending
-/// point of each); while a shape has a point on the wrong side the plane is moved by the perceptron update
-/// h ← h ± η·(p, 1), η ← 0.97·η, for a bounded number of steps. A plane is only reported when the support
-/// points prove it, so "separated" is always right; undecided queries fall back to GJK, whose separating
-/// normal then re-seeds the plane.
+/// point of each): when the normal separates those two points the plane is proven and re-centred midway
+/// between them. A failing cached plane means near contact, where the perceptron rarely converges, so the
+/// query goes to warm-started GJK; only without a cached plane (first frame) is the plane searched by the
+/// perceptron update h ← h ± η·(p, 1), η ← 0.97·η, for a bounded number of steps. A plane is only reported
+/// when the support points prove it, so "separated" is always right; GJK's separating normal and extreme
+/// points re-seed the plane.
 
 #include <cdkit/narrowphase/gjk.hpp>
 
@@ -19,6 +21,8 @@ template <class S = double> struct SeparatingPlaneCache {
     Vec3<S> n = Vec3<S>::Zero();
     S c = S(0);
     bool valid = false;
+    /// The last answer was "colliding" (a hint: the next query then skips the plane search).
+    bool last_colliding = false;
     GjkCache<S> gjk{};
 };
 
@@ -31,7 +35,8 @@ template <class S> struct SeparatingPlaneResult {
 };
 
 /// Boolean intersection of `a` at `pose_a` and `b` at `pose_b` using and updating `cache`.
-/// `max_iterations` bounds the perceptron steps before GJK takes over. Const on the shapes, noexcept;
+/// `max_iterations` bounds the perceptron steps (used only without a cached plane) before GJK takes over.
+/// Const on the shapes, noexcept;
 /// thread-safe as long as each thread uses its own cache.
 template <SupportMapped A, SupportMapped B>
     requires std::same_as<typename A::Scalar, typename B::Scalar>
@@ -58,7 +63,11 @@ template <SupportMapped A, SupportMapped B>
         c = S(0);
     }
     S eta = S(1);
-    for (int it = 0; it < max_iterations && n.allFinite(); ++it) {
+    // After a colliding answer no plane exists nearby: go straight to (warm-started) GJK.
+    // When the cached plane fails, the pair is near contact: the perceptron rarely converges there, and warm
+    // GJK (whose cache holds the same direction and the last simplex) is the cheaper next step.
+    const int steps = cache.valid ? 1 : (cache.last_colliding ? 0 : max_iterations);
+    for (int it = 0; it < steps && n.allFinite(); ++it) {
         S nn = n.norm();
         if (!(nn > S(0))) break;
         n /= nn;
@@ -67,10 +76,15 @@ template <SupportMapped A, SupportMapped B>
         Vec3<S> p = (ta.support(Vec3<S>(-n)) - o) / len;
         Vec3<S> q = (tb.support(n) - o) / len;
         S sp = n.dot(p) + c, sq = n.dot(q) + c;
-        if (sp > S(0) && sq < S(0)) {
+        if (n.dot(p - q) > S(0)) {
+            // n separates the supports (all of A is at or above p, all of B at or below q): the plane
+            // through the middle of the gap is proven, whatever c was. Re-centring it costs no query and
+            // keeps the largest margin for the next frame.
+            c -= (sp + sq) / S(2);
             cache.n = n / len;  // back to the world frame: n·(x − o)/len + c
             cache.c = c - cache.n.dot(o);
             cache.valid = true;
+            cache.last_colliding = false;
             return r;
         }
         r.iterations = it + 1;
@@ -79,14 +93,17 @@ template <SupportMapped A, SupportMapped B>
         eta *= S(0.97);
     }
     r.used_gjk = true;
-    GjkResult<S> g = gjk_intersect(a, pose_a, b, pose_b, &cache.gjk);
+    // The GJK cache's first direction is the one the plane came from, just found failing: skip it.
+    const bool plane_failed = cache.valid;
+    GjkResult<S> g = detail::gjk_query(a, pose_a, b, pose_b, &cache.gjk, GjkSettings<S>{}, true, !plane_failed);
     r.gjk_status = g.status;
     r.colliding = g.status != GjkStatus::separated;
     cache.valid = false;
+    cache.last_colliding = r.colliding;
     if (g.status == GjkStatus::separated && g.normal.allFinite() && g.normal.squaredNorm() > S(0)) {
-        // GJK's boolean exit leaves the witness points unset: put the plane between the shapes' extremes.
+        // GJK's boolean exit returns the shapes' extreme points along its normal: the plane goes midway.
         Vec3<S> m = -g.normal;
-        S ha = m.dot(Vec3<S>(ta.support(Vec3<S>(-m)))), hb = m.dot(Vec3<S>(tb.support(m)));
+        S ha = m.dot(g.point_a), hb = m.dot(g.point_b);
         if (ha > hb) {
             cache.n = m;
             cache.c = -(ha + hb) / S(2);

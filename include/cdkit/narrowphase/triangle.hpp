@@ -5,7 +5,7 @@
 /// Based on: P. Guigue, O. Devillers, "Fast and Robust Triangle-Triangle Overlap Test Using Orientation
 /// Predicates", Journal of Graphics Tools 8(1):25–32, 2003. Every decision is the sign of an orientation
 /// determinant (cdkit/core/predicates.hpp), so with exact predicates the answer is exact for all finite
-/// input in the predicates' range: there is no epsilon anywhere in the boolean. Guigue–Devillers assume
+/// input: there is no epsilon anywhere in the boolean. Guigue–Devillers assume
 /// non-degenerate triangles; zero-area triangles (collinear or coincident vertices, legal in polygon
 /// soups) are reduced exactly to the segment or point they are and tested by their own exact paths.
 /// See docs/triangle.md for the derivation of the sign conditions and the measured numbers.
@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace cdkit {
@@ -32,7 +33,9 @@ template <class S> struct TriangleIntersection {
     /// touch at one point; for a zero-area input the intersection of its segment/point with the other).
     /// Accuracy (filtered_exact): each point is within about 16·2^-52·M of the exact one, M the largest
     /// coordinate magnitude of the six vertices, plus the final rounding to S; so its distance to each
-    /// triangle is at most that. Both zero when !intersect.
+    /// triangle is at most that, while every coordinate is 0 or of magnitude in [2^-280, 2^280] (beyond,
+    /// the boolean stays exact and the points lie on the right segments, less accurately). Both zero
+    /// when !intersect.
     Vec3<S> a = Vec3<S>::Zero();
     Vec3<S> b = Vec3<S>::Zero();
 };
@@ -101,6 +104,57 @@ struct ExactKernel {
     static double value2(const P& a, const P& b, const P& c, int k, double) noexcept {
         double v;
         orient2d_exact(proj(a, k), proj(b, k), proj(c, k), &v);
+        return v;
+    }
+};
+
+/// ExactKernel's fallback for input outside the floating-point stages' range (a subnormal or huge
+/// coordinate): every determinant in wide integers, exact for all finite input, and slow. Its values are
+/// the exact determinants rounded to double (kept nonzero and finite), so witnesses stay on the right
+/// segments, without ExactKernel's accuracy bound when a value leaves double's range.
+struct WideRangeKernel {
+    using T = double;
+    using P = Pt3<double>;
+    class Plane {
+    public:
+        Plane(const P& a, const P& b, const P& c) noexcept : a_(a), b_(b), c_(c) {}
+        int above(const P& d, double& v) const noexcept {
+            double o;
+            const int s = orient3d_wide(a_, b_, c_, d, &o);
+            v = -o;
+            return -s;
+        }
+        int above3(const P (&d)[3], int (&s)[3], double (&v)[3]) const noexcept {
+            for (int i = 0; i < 3; ++i) s[i] = above(d[i], v[i]);
+            const bool pos = (s[0] > 0) & (s[1] > 0) & (s[2] > 0), neg = (s[0] < 0) & (s[1] < 0) & (s[2] < 0);
+            return pos ? 1 : (neg ? -1 : 0);
+        }
+
+    private:
+        P a_, b_, c_;
+    };
+    static int above(const P& a, const P& b, const P& c, const P& d) noexcept { return -orient3d_wide(a, b, c, d); }
+    static int orient2(const P& a, const P& b, const P& c, int k) noexcept {
+        return orient2d_wide(proj(a, k), proj(b, k), proj(c, k));
+    }
+    static int orient2(const P& a, const P& b, const P& c, int k, double& v) noexcept {
+        return orient2d_wide(proj(a, k), proj(b, k), proj(c, k), &v);
+    }
+    class Values {
+    public:
+        Values(const P& a, const P& b, const P& c) noexcept : plane_(a, b, c) {}
+        double operator()(const P& d, double) const noexcept {
+            double v;
+            plane_.above(d, v);
+            return v;
+        }
+
+    private:
+        Plane plane_;
+    };
+    static double value2(const P& a, const P& b, const P& c, int k, double) noexcept {
+        double v;
+        orient2d_wide(proj(a, k), proj(b, k), proj(c, k), &v);
         return v;
     }
 };
@@ -597,6 +651,13 @@ bool run(const Vec3<S>& p0, const Vec3<S>& p1, const Vec3<S>& p2, const Vec3<S>&
     using T = typename K::T;
     Pt3<T> p[3] = {to_pt<T>(p0), to_pt<T>(p1), to_pt<T>(p2)};
     Pt3<T> q[3] = {to_pt<T>(q0), to_pt<T>(q1), to_pt<T>(q2)};
+    if constexpr (std::is_same_v<K, ExactKernel> && std::is_same_v<S, double>) {
+        // float input is always in range; double input is checked once per pair, not per predicate.
+        const double x[18] = {p[0].x, p[0].y, p[0].z, p[1].x, p[1].y, p[1].z, p[2].x, p[2].y, p[2].z,
+                              q[0].x, q[0].y, q[0].z, q[1].x, q[1].y, q[1].z, q[2].x, q[2].y, q[2].z};
+        if (any_outside_predicate_range(x)) [[unlikely]]
+            return triangle_triangle<WideRangeKernel, W>(p, q, out);
+    }
     return triangle_triangle<K, W>(p, q, out);
 }
 
@@ -607,7 +668,7 @@ template <class S, class T> [[nodiscard]] inline Vec3<S> to_vec(const Pt3<T>& p)
 }  // namespace detail::tritri
 
 /// Whether the closed triangles (p0,p1,p2) and (q0,q1,q2) share a point; touching counts. Exact in
-/// filtered_exact mode (the default) for all finite input in the predicates' range, including coplanar
+/// filtered_exact mode (the default) for all finite input, including coplanar
 /// and zero-area triangles; the same answer for every vertex order and for swapping the triangles.
 /// floating_point mode evaluates the same predicates once in S (see PredicateMode). S: float or double.
 /// Never divides, never allocates.

@@ -1,0 +1,336 @@
+// cdkit_bench_ist: inner sphere trees on a closed mesh (default: the bundled bunny, scaled into [-1, 1]^3).
+//
+//  1. Coverage (sphere volume / mesh volume) and build time (packing + hierarchy) against the sphere count.
+//  2. Penetration volume at P2 proximity poses (BENCHMARKS.md): R random rotations and directions u, bisection
+//     to contact with cdkit::collide on the meshes, then B moved towards A by 5% of the bounding-box diagonal
+//     (δ = −0.05). Per sphere count and out-degree (4, 8): median / p99 µs per query (thread CPU time,
+//     batches of repetitions), node tests, overlapping pairs.
+//  3. Error of the volume against a Monte Carlo reference of vol(A ∩ B) of the meshes (uniform samples in
+//     the intersection of the two bounding boxes, exact inside tests): raw Σ lens volumes and the calibrated
+//     estimate (cell weights), median and max relative error over the poses.
+//
+// Usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]
+//   --quick: 1k and 10k spheres, 8 poses, 300k samples (under a minute); default adds 100k spheres,
+//   24 poses, 2M samples.
+//   --counts N,M,...: sphere counts instead of the mode's.
+//   --depth-calibration, --no-depth-calibration, --calibration-iterations N: set
+//   PackingOptions::depth_calibration(_iterations) (default: the library's defaults).
+//   --plots DIR: instead, write the CSV files that benchmarks/ist/plot_ist.py draws (docs/images/ist_*.png):
+//   the packing's cross-section at 1k and 10k spheres, the tree's levels 1-3, force and torque along a path.
+#include "cdkit/bv/obb.hpp"
+#include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/io/load_mesh.hpp"
+#include "cdkit/ist/inner_sphere_tree.hpp"
+#include "cdkit/ist/inside_test.hpp"
+#include "cdkit/ist/ist_query.hpp"
+#include "cdkit/ist/penalty_force.hpp"
+#include "cdkit/query.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace cdkit;
+
+namespace {
+
+double thread_seconds() {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+double wall_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+struct Row {
+    std::size_t spheres = 0;
+    int degree = 0;
+    double coverage = 0, pack_s = 0, tree_s = 0;
+    std::size_t depth = 0, nodes = 0;
+    double q_median = 0, q_p99 = 0, tests_median = 0, pairs_median = 0;
+    double raw_err_median = 0, cal_err_median = 0, cal_err_max = 0, cal_bias = 0;
+};
+
+std::ofstream open_csv(const std::string& path) {
+    std::ofstream f(path);
+    if (!f) throw Error(path, "", "cannot open for writing");
+    f.precision(9);
+    return f;
+}
+
+// Cross-section of the mesh with the plane z = z0: one segment per crossing triangle.
+void write_mesh_section(std::ofstream& f, const TriangleMesh<double>& mesh, double z0) {
+    for (const Triangle& t : mesh.triangles) {
+        Vec3<double> p[2];
+        int n = 0;
+        for (int k = 0; k < 3 && n < 2; ++k) {
+            const Vec3<double>& u = mesh.vertices[t[k]];
+            const Vec3<double>& v = mesh.vertices[t[(k + 1) % 3]];
+            if ((u.z() < z0) == (v.z() < z0)) continue;
+            p[n++] = u + (v - u) * ((z0 - u.z()) / (v.z() - u.z()));
+        }
+        if (n == 2) f << "segment," << p[0].x() << ',' << p[0].y() << ',' << p[1].x() << ',' << p[1].y() << '\n';
+    }
+}
+
+// The plot data (see the file comment). The path is examples/ist_forces.cpp's: B comes in along -x from
+// outside contact to x = 1.1, turning 0.5 rad about y, sampled at 1000 and at 250 steps.
+void write_plot_data(const TriangleMesh<double>& mesh, const std::string& dir) {
+    const double z0 = 0;
+    InnerSphereTree tree10k;
+    for (std::size_t count : {std::size_t(1000), std::size_t(10000)}) {
+        PackingOptions po;
+        po.max_spheres = count;
+        IstBuildOptions bo;
+        bo.out_degree = 8;
+        InnerSphereTree tree(pack_spheres(mesh, po), bo);
+        std::ofstream f = open_csv(dir + "/ist_section_" + std::to_string(count) + ".csv");
+        f << "kind,x0,y0,x1_or_r,y1\n";
+        for (const InnerSphere& s : tree.spheres()) {
+            const double dz = s.center.z() - z0;
+            if (std::abs(dz) < s.radius)
+                f << "circle," << s.center.x() << ',' << s.center.y() << ',' << std::sqrt(s.radius * s.radius - dz * dz) << ",0\n";
+        }
+        write_mesh_section(f, mesh, z0);
+        std::printf("%s: %zu spheres, coverage %.1f%%\n", (dir + "/ist_section_" + std::to_string(count) + ".csv").c_str(),
+                    tree.spheres().size(), 100 * tree.coverage());
+        if (count == 10000) tree10k = std::move(tree);
+    }
+    {   // Levels 1-3 (the root is level 0) of the 10k tree, projected onto the xy plane, over the mesh's projection.
+        std::ofstream f = open_csv(dir + "/ist_levels.csv");
+        f << "kind,level,x0,y0,x1_or_r,y1,x2,y2\n";
+        const auto& nodes = tree10k.nodes();
+        std::function<void(std::uint32_t, int)> walk = [&](std::uint32_t i, int level) {
+            const IstNode& n = nodes[i];
+            if (level >= 1) f << "sphere," << level << ',' << n.center.x() << ',' << n.center.y() << ',' << n.radius << ",0,0,0\n";
+            if (level < 3)
+                for (std::uint32_t j = n.first; j < n.first + n.count; ++j) walk(j, level + 1);
+        };
+        walk(0, 0);
+        for (const Triangle& t : mesh.triangles) {
+            f << "triangle,0";
+            for (Index v : t) f << ',' << mesh.vertices[v].x() << ',' << mesh.vertices[v].y();
+            f << '\n';
+        }
+    }
+    {   // Force and torque on B along the path, 10k-sphere trees, stiffness 1.
+        std::ofstream f = open_csv(dir + "/ist_path.csv");
+        f << "steps,s,x,volume,pairs,force,torque,fx,fy,fz\n";
+        for (int steps : {250, 1000}) {
+            for (int i = 0; i <= steps; ++i) {
+                const double s = double(i) / steps;
+                const Transform<double> pb(Eigen::AngleAxisd(0.5 * s, Vec3<double>::UnitY()).toRotationMatrix(),
+                                           Vec3<double>(1.8 - 0.7 * s, 0.1, 0.0));
+                const auto v = penetration_volume(tree10k, {}, tree10k, pb);
+                const auto w = penalty_wrench(v, tree10k, {}, tree10k, pb, 1.0, Vec3<double>::Zero(), pb.t);
+                f << steps << ',' << s << ',' << pb.t.x() << ',' << v.volume << ',' << v.pairs.size() << ','
+                  << w.on_b.force.norm() << ',' << w.on_b.torque.norm() << ',' << w.on_b.force.x() << ','
+                  << w.on_b.force.y() << ',' << w.on_b.force.z() << '\n';
+            }
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    std::string mesh_path = std::string(CDKIT_BENCH_SOURCE_DIR) + "/data/bunny.obj", csv, plots;
+    int poses = -1;
+    bool depth_calibration = PackingOptions{}.depth_calibration;
+    std::vector<std::size_t> user_counts;
+    int calibration_iterations = PackingOptions{}.depth_calibration_iterations;
+    long samples = -1;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--quick") quick = true;
+        else if (a == "--mesh" && i + 1 < argc) mesh_path = argv[++i];
+        else if (a == "--poses" && i + 1 < argc) poses = std::atoi(argv[++i]);
+        else if (a == "--samples" && i + 1 < argc) samples = std::atol(argv[++i]);
+        else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
+        else if (a == "--plots" && i + 1 < argc) plots = argv[++i];
+        else if (a == "--no-depth-calibration") depth_calibration = false;
+        else if (a == "--depth-calibration") depth_calibration = true;
+        else if (a == "--counts" && i + 1 < argc) {
+            for (const char* p = argv[++i]; *p;) {
+                char* end = nullptr;
+                user_counts.push_back(std::size_t(std::strtoul(p, &end, 10)));
+                p = *end == ',' ? end + 1 : end;
+                if (end == p && *p) break;
+            }
+        }
+        else if (a == "--calibration-iterations" && i + 1 < argc) calibration_iterations = std::atoi(argv[++i]);
+        else {
+            std::fprintf(stderr, "usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]\n"
+                         "                       [--counts N,M,...] [--[no-]depth-calibration] [--calibration-iterations N]\n");
+            return 2;
+        }
+    }
+    if (poses < 0) poses = quick ? 8 : 24;
+    if (samples < 0) samples = quick ? 300000 : 2000000;
+    const std::vector<std::size_t> counts = !user_counts.empty() ? user_counts
+                                            : quick ? std::vector<std::size_t>{1000, 10000}
+                                                    : std::vector<std::size_t>{1000, 10000, 100000};
+    try {
+        TriangleMesh<double> mesh = load_mesh(mesh_path);
+        Vec3<double> lo = mesh.vertices[0], hi = lo;
+        for (const auto& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+        for (auto& v : mesh.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
+        lo = hi = mesh.vertices[0];
+        for (const auto& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+        const double diag = (hi - lo).norm();
+        if (!plots.empty()) {
+            write_plot_data(mesh, plots);
+            return 0;
+        }
+        std::printf("# cdkit_bench_ist: %s (%zu triangles), %d poses at δ = -0.05 (depth %.4f), %ld MC samples%s\n\n",
+                    mesh_path.c_str(), mesh.triangles.size(), poses, 0.05 * diag, samples, quick ? " (--quick)" : "");
+
+        // Poses: bisection to contact on the meshes, then 5% of the diagonal deeper.
+        const MeshModel<Obb<double>> model(mesh);
+        const InsideTest inside(mesh);
+        std::mt19937_64 rng(2024);
+        std::normal_distribution<double> g;
+        std::vector<Transform<double>> pose_b;
+        for (int i = 0; i < poses; ++i) {
+            Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+            q.normalize();
+            Vec3<double> u(g(rng), g(rng), g(rng));
+            u.normalize();
+            const Mat3<double> R = q.toRotationMatrix();
+            double in = 0, out = 2 * diag;
+            for (int it = 0; it < 40; ++it) {
+                const double mid = (in + out) / 2;
+                (collide(model, Transform<double>{}, model, Transform<double>(R, mid * u)).colliding ? in : out) = mid;
+            }
+            pose_b.emplace_back(R, (out - 0.05 * diag) * u);
+        }
+        // Monte Carlo reference of vol(A ∩ B) per pose.
+        std::vector<double> reference(poses), ref_err(poses);
+        const double t_mc = wall_seconds();
+        for (int i = 0; i < poses; ++i) {
+            Vec3<double> blo = Vec3<double>::Constant(1e300), bhi = -blo;
+            for (const auto& v : mesh.vertices) {
+                const Vec3<double> w = pose_b[i] * v;
+                blo = blo.cwiseMin(w), bhi = bhi.cwiseMax(w);
+            }
+            blo = blo.cwiseMax(lo), bhi = bhi.cwiseMin(hi);
+            const Vec3<double> ext = (bhi - blo).cwiseMax(0.0);
+            const Transform<double> inv = pose_b[i].inverse();
+            std::uniform_real_distribution<double> u01(0, 1);
+            long hits = 0;
+            for (long k = 0; k < samples; ++k) {
+                const Vec3<double> p = blo + Vec3<double>(u01(rng), u01(rng), u01(rng)).cwiseProduct(ext);
+                hits += inside.inside(p) && inside.inside(inv * p);
+            }
+            const double f = double(hits) / double(samples);
+            reference[i] = f * ext.prod();
+            ref_err[i] = hits ? std::sqrt(f * (1 - f) / double(samples)) / f : 1.0;  // relative standard error
+        }
+        std::printf("Monte Carlo reference: %.1f s, median relative standard error %.2f%%\n\n",
+                    wall_seconds() - t_mc, 100 * quantile(ref_err, 0.5));
+
+        std::vector<Row> rows;
+        struct CurvePoint { std::size_t packing, spheres; double coverage; };
+        std::vector<CurvePoint> curve;
+        for (std::size_t count : counts) {
+            PackingOptions po;
+            po.max_spheres = count;
+            po.depth_calibration = depth_calibration;
+            po.depth_calibration_iterations = calibration_iterations;
+            const double t0 = wall_seconds();
+            const SpherePacking packing = pack_spheres(mesh, po);
+            const double pack_s = wall_seconds() - t0;
+            for (std::size_t n = 100; n < count; n *= 10) {
+                curve.push_back({count, n, packing.coverage_of_first(n)});
+                if (3 * n < count) curve.push_back({count, 3 * n, packing.coverage_of_first(3 * n)});
+            }
+            curve.push_back({count, count, packing.coverage()});
+            for (int degree : {4, 8}) {
+                IstBuildOptions bo;
+                bo.out_degree = degree;
+                const double t1 = wall_seconds();
+                const InnerSphereTree tree(packing, bo);
+                Row row;
+                row.tree_s = wall_seconds() - t1;
+                row.pack_s = pack_s;
+                row.spheres = tree.spheres().size();
+                row.degree = degree;
+                row.coverage = tree.coverage();
+                row.depth = tree.stats().depth;
+                row.nodes = tree.nodes().size();
+                std::vector<double> times, tests, pairs, raw_err, cal_err;
+                double bias = 0;
+                for (int i = 0; i < poses; ++i) {
+                    PenetrationVolumeResult r = penetration_volume(tree, {}, tree, pose_b[i]);
+                    int reps = 1;
+                    double elapsed = 0;
+                    while (true) {  // batches long enough for the clock
+                        const double s = thread_seconds();
+                        for (int k = 0; k < reps; ++k) r = penetration_volume(tree, {}, tree, pose_b[i]);
+                        elapsed = thread_seconds() - s;
+                        if (elapsed > 2e-3 || reps >= 1 << 14) break;
+                        reps *= 4;
+                    }
+                    times.push_back(1e6 * elapsed / reps);
+                    tests.push_back(double(r.stats.node_tests));
+                    pairs.push_back(double(r.pairs.size()));
+                    if (reference[i] > 0) {
+                        raw_err.push_back(std::abs(r.volume - reference[i]) / reference[i]);
+                        cal_err.push_back(std::abs(r.calibrated - reference[i]) / reference[i]);
+                        bias += (r.calibrated - reference[i]) / reference[i];
+                    }
+                }
+                row.q_median = quantile(times, 0.5);
+                row.q_p99 = quantile(times, 0.99);
+                row.tests_median = quantile(tests, 0.5);
+                row.pairs_median = quantile(pairs, 0.5);
+                row.raw_err_median = quantile(raw_err, 0.5);
+                row.cal_err_median = quantile(cal_err, 0.5);
+                row.cal_err_max = quantile(cal_err, 1.0);
+                row.cal_bias = cal_err.empty() ? 0 : bias / double(cal_err.size());
+                rows.push_back(row);
+            }
+        }
+
+        std::printf("## Coverage against sphere count\n\nA packing for max_spheres = N; its first n spheres (the greedy "
+                    "prefix) cover the fraction shown.\n\n| packing N | first n spheres | coverage |\n|---:|---:|---:|\n");
+        for (const auto& c : curve) std::printf("| %zu | %zu | %.1f%% |\n", c.packing, c.spheres, 100 * c.coverage);
+        std::printf("\n## Build, volume query at δ = -0.05, error against Monte Carlo\n\n");
+        std::printf("| spheres | out-degree | coverage | pack s | tree s | depth | nodes | query median µs | p99 µs | "
+                    "node tests | pairs | raw error (median) | calibrated error (median) | calibrated error (max) | calibrated bias (mean signed) |\n");
+        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        for (const Row& r : rows)
+            std::printf("| %zu | %d | %.1f%% | %.2f | %.3f | %zu | %zu | %.1f | %.1f | %.0f | %.0f | %.1f%% | %.1f%% | %.1f%% | %+.1f%% |\n",
+                        r.spheres, r.degree, 100 * r.coverage, r.pack_s, r.tree_s, r.depth, r.nodes, r.q_median, r.q_p99,
+                        r.tests_median, r.pairs_median, 100 * r.raw_err_median, 100 * r.cal_err_median, 100 * r.cal_err_max, 100 * r.cal_bias);
+        if (!csv.empty()) {
+            std::ofstream f(csv);
+            if (!f) throw Error(csv, "", "cannot open for writing");
+            f << "spheres,out_degree,coverage,pack_s,tree_s,depth,nodes,query_median_us,query_p99_us,node_tests_median,"
+                 "pairs_median,raw_rel_err_median,cal_rel_err_median,cal_rel_err_max,cal_rel_bias\n";
+            for (const Row& r : rows)
+                f << r.spheres << ',' << r.degree << ',' << r.coverage << ',' << r.pack_s << ',' << r.tree_s << ','
+                  << r.depth << ',' << r.nodes << ',' << r.q_median << ',' << r.q_p99 << ',' << r.tests_median << ','
+                  << r.pairs_median << ',' << r.raw_err_median << ',' << r.cal_err_median << ',' << r.cal_err_max << ',' << r.cal_bias << '\n';
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "cdkit_bench_ist: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,146 @@
+#pragma once
+/// \file The representation an object of a World carries: the cheapest one that answers its queries
+/// (sphere, box, capsule, convex hull, or a mesh with its BVH), chosen by the user (or suggested by
+/// suggest_representation.hpp), optionally placed in the object's frame by a fixed offset.
+///
+/// Shapes are immutable values; hulls and mesh models are held by shared_ptr so many objects can share
+/// one (a hundred crates share one hull). All members are const and thread-safe.
+
+#include "cdkit/bv/obb.hpp"
+#include "cdkit/broadphase/box.hpp"
+#include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/core/error.hpp"
+#include "cdkit/narrowphase/convex_polyhedron.hpp"
+#include "cdkit/narrowphase/convex_shapes.hpp"
+
+#include <memory>
+#include <variant>
+
+namespace cdkit {
+
+/// Which representation a Shape holds.
+enum class ShapeKind { sphere, box, capsule, convex_hull, mesh };
+
+/// Name of a kind, for messages and reports.
+[[nodiscard]] inline const char* to_string(ShapeKind k) noexcept {
+    switch (k) {
+        case ShapeKind::sphere: return "sphere";
+        case ShapeKind::box: return "box";
+        case ShapeKind::capsule: return "capsule";
+        case ShapeKind::convex_hull: return "convex_hull";
+        case ShapeKind::mesh: return "mesh";
+    }
+    return "?";
+}
+
+/// The BVH type World uses for meshes (OBB trees: tight for rigid meshes, see docs/bvh.md).
+template <class S> using WorldMeshModel = MeshModel<Obb<S>>;
+
+/// A collision representation in its local frame. Convex kinds go to GJK/EPA, meshes to the BVH queries.
+template <class S = double> class Shape {
+public:
+    using Scalar = S;
+    using Hull = std::shared_ptr<const ConvexPolyhedron<S>>;
+    using Mesh = std::shared_ptr<const WorldMeshModel<S>>;
+
+    /// Ball of radius r ≥ 0 centred at the origin (throws cdkit::Error for a negative or non-finite r).
+    [[nodiscard]] static Shape sphere(S radius) { return Shape(Sphere<S>(radius)); }
+    /// Box with the given half extents (≥ 0, finite), centred at the origin, axis-aligned in its frame.
+    [[nodiscard]] static Shape box(const Vec3<S>& half_extents) { return Shape(Box<S>(half_extents)); }
+    /// Capsule: segment from (0,0,−half_length) to (0,0,+half_length) grown by radius.
+    [[nodiscard]] static Shape capsule(S radius, S half_length) { return Shape(Capsule<S>(radius, half_length)); }
+    /// Convex hull of points (Qhull; throws cdkit::Error for < 4 points, NaN, or a flat set).
+    [[nodiscard]] static Shape convex_hull(const std::vector<Vec3<S>>& points) {
+        return convex_hull(std::make_shared<const ConvexPolyhedron<S>>(points));
+    }
+    /// A shared, already built hull (throws cdkit::Error for nullptr).
+    [[nodiscard]] static Shape convex_hull(Hull hull) {
+        if (!hull) throw Error("<world>", "convex hull shape", "null hull");
+        return Shape(std::move(hull));
+    }
+    /// A shared mesh model (triangle soup or closed mesh with its BVH; throws cdkit::Error for nullptr).
+    [[nodiscard]] static Shape mesh(Mesh model) {
+        if (!model) throw Error("<world>", "mesh shape", "null mesh model");
+        return Shape(std::move(model));
+    }
+    /// Builds the BVH of a mesh (validates it: cdkit::Error naming mesh.source on bad data).
+    [[nodiscard]] static Shape mesh(TriangleMesh<S> m) {
+        return mesh(std::make_shared<const WorldMeshModel<S>>(std::move(m)));
+    }
+
+    /// The same shape placed by a fixed rigid `offset` in the object's frame (object pose · offset places
+    /// it in the world). Throws cdkit::Error when the offset is not a rigid motion.
+    [[nodiscard]] Shape with_offset(const Transform<S>& offset) const {
+        if (!pose_is_usable(offset)) throw Error("<world>", "shape offset", "not a finite rigid motion");
+        Shape s = *this;
+        s.offset_ = offset;
+        s.has_offset_ = true;
+        return s;
+    }
+
+    [[nodiscard]] ShapeKind kind() const noexcept { return ShapeKind(value_.index()); }
+    [[nodiscard]] bool is_convex() const noexcept { return kind() != ShapeKind::mesh; }
+    [[nodiscard]] const Transform<S>& offset() const noexcept { return offset_; }
+    [[nodiscard]] bool has_offset() const noexcept { return has_offset_; }
+    /// The pose of the shape's own frame for an object at `pose`.
+    [[nodiscard]] Transform<S> placed(const Transform<S>& pose) const { return has_offset_ ? pose * offset_ : pose; }
+
+    /// Calls f(support_mapped_shape) for a convex kind (precondition: is_convex()).
+    template <class F> decltype(auto) visit_convex(F&& f) const {
+        switch (kind()) {
+            case ShapeKind::sphere: return f(std::get<0>(value_));
+            case ShapeKind::box: return f(std::get<1>(value_));
+            case ShapeKind::capsule: return f(std::get<2>(value_));
+            default: return f(*std::get<3>(value_));
+        }
+    }
+    /// The mesh model (precondition: kind() == ShapeKind::mesh).
+    [[nodiscard]] const WorldMeshModel<S>& mesh_model() const noexcept { return *std::get<4>(value_); }
+
+    /// Local box (centre, half extents) of the shape in its own frame.
+    [[nodiscard]] const Aabb<S>& local_bounds() const noexcept { return local_; }
+    /// World-space box for an object at `pose`: the local box carried by the pose (|R|·half), conservative.
+    [[nodiscard]] BroadBox<S> world_box(const Transform<S>& pose) const noexcept {
+        const Transform<S> p = has_offset_ ? pose * offset_ : pose;
+        const Vec3<S> c = p.R * local_.center + p.t;
+        const Vec3<S> h = p.R.cwiseAbs() * local_.half;
+        return BroadBox<S>::from_center_half(c, h);
+    }
+
+private:
+    using Value = std::variant<Sphere<S>, Box<S>, Capsule<S>, Hull, Mesh>;
+    explicit Shape(Value v) : value_(std::move(v)) { local_ = compute_local(); }
+
+    Aabb<S> compute_local() const {
+        switch (kind()) {
+            case ShapeKind::sphere: {
+                const S r = std::get<0>(value_).radius;
+                return Aabb<S>::from_min_max(Vec3<S>::Constant(-r), Vec3<S>::Constant(r));
+            }
+            case ShapeKind::box: {
+                const Vec3<S> h = std::get<1>(value_).half;
+                return Aabb<S>::from_min_max(-h, h);
+            }
+            case ShapeKind::capsule: {
+                const auto& c = std::get<2>(value_);
+                const Vec3<S> h(c.radius, c.radius, c.radius + c.half_length);
+                return Aabb<S>::from_min_max(-h, h);
+            }
+            case ShapeKind::convex_hull: return bounds_of(std::get<3>(value_)->vertices());
+            case ShapeKind::mesh: return bounds_of(std::get<4>(value_)->mesh().vertices);
+        }
+        return {};
+    }
+    static Aabb<S> bounds_of(const std::vector<Vec3<S>>& v) {
+        Vec3<S> lo = v.front(), hi = v.front();
+        for (const auto& p : v) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+        return Aabb<S>::from_min_max(lo, hi);
+    }
+
+    Value value_;
+    Aabb<S> local_;
+    Transform<S> offset_{};
+    bool has_offset_ = false;
+};
+
+}  // namespace cdkit

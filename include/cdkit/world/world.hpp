@@ -1,0 +1,190 @@
+#pragma once
+/// \file World: objects with a shape and a pose, and step(), which runs the whole pipeline
+///   broad phase (SAP, grid, dynamic AABB tree or brute force) → interest matrix (group / pair filters, a
+///   per-pair GJK warm-start cache that lives while the pair's boxes overlap) → narrow phase (dispatch by
+///   shape kinds, world/narrow_phase.hpp) → contacts, sorted by (a, b).
+///
+/// The narrow phase runs over the candidate pairs in parallel with TBB when `WorldOptions::parallel` is set
+/// and the library was built with TBB (CDKIT_HAS_TBB); each pair reads and writes only its own cache and
+/// result slot, so the contacts are identical to the sequential run. Without TBB `parallel` is ignored.
+///
+/// Every pair of shape kinds is supported (sphere, box, capsule, convex hull, mesh); see
+/// world/narrow_phase.hpp for what a mesh contact means. Bad input (a non-rigid or non-finite pose, an
+/// unknown id, a group ≥ 64) raises cdkit::Error where it enters; step() does not throw except
+/// std::bad_alloc. Thread safety: const members may run concurrently; add / remove / set_pose / step and
+/// the filter setters must not run concurrently with anything else on the same World.
+
+#include "cdkit/broadphase/brute_force.hpp"
+#include "cdkit/broadphase/dynamic_aabb_tree.hpp"
+#include "cdkit/broadphase/interest_matrix.hpp"
+#include "cdkit/broadphase/sweep_and_prune.hpp"
+#include "cdkit/broadphase/uniform_grid.hpp"
+#include "cdkit/world/narrow_phase.hpp"
+
+#include <algorithm>
+#include <variant>
+#include <vector>
+
+#if defined(CDKIT_HAS_TBB)
+#include <tbb/parallel_for.h>
+#endif
+
+namespace cdkit {
+
+/// The broad phase a World uses (docs/broadphase.md: how to choose).
+enum class BroadPhaseKind { dynamic_aabb_tree, sweep_and_prune, uniform_grid, brute_force };
+
+struct WorldOptions {
+    BroadPhaseKind broad_phase = BroadPhaseKind::dynamic_aabb_tree;
+    /// Run the narrow phase with TBB (when built with it) once there are at least `parallel_min_pairs`.
+    bool parallel = false;
+    std::size_t parallel_min_pairs = 32;
+};
+
+/// Counters of one step, to explain its time.
+struct WorldStepStats {
+    std::size_t broad_pairs = 0;   ///< pairs whose world boxes overlap
+    std::size_t tested_pairs = 0;  ///< of those, pairs the interest matrix lets through (narrow-phase calls)
+    std::size_t contacts = 0;
+    std::size_t gjk_iterations = 0;  ///< summed over the convex–convex contacts
+    bool ran_parallel = false;
+};
+
+/// Result of World::step(): contacts sorted by (a, b), and statistics.
+template <class S = double> struct WorldStepResult {
+    std::vector<WorldContact<S>> contacts;
+    WorldStepStats stats;
+};
+
+template <class S = double> class World {
+public:
+    using Scalar = S;
+
+    explicit World(const WorldOptions& options = {}) : options_(options) {
+        switch (options.broad_phase) {
+            case BroadPhaseKind::dynamic_aabb_tree: bp_.template emplace<DynamicAabbTree<S>>(); break;
+            case BroadPhaseKind::sweep_and_prune: bp_.template emplace<SweepAndPrune<S>>(); break;
+            case BroadPhaseKind::uniform_grid: bp_.template emplace<UniformGrid<S>>(); break;
+            case BroadPhaseKind::brute_force: bp_.template emplace<BruteForceBroadPhase<S>>(); break;
+        }
+        interest_.on_begin = [this](ObjectPair p, GjkCache<S>& c) { candidates_.push_back({p, &c}); };
+        interest_.on_persist = interest_.on_begin;
+    }
+    World(const World&) = delete;  // the interest-matrix callbacks point at this World
+    World& operator=(const World&) = delete;
+
+    /// Adds an object with `shape` at `pose` (model frame → world); returns its id (stable until removed,
+    /// reused afterwards). Throws cdkit::Error for a pose that is not a finite rigid motion.
+    ObjectId add(Shape<S> shape, const Transform<S>& pose) {
+        check_pose(pose, "add");
+        const BroadBox<S> box = shape.world_box(pose);
+        const ObjectId id = std::visit([&](auto& bp) { return bp.insert(box); }, bp_);
+        if (id >= objects_.size()) objects_.resize(std::size_t(id) + 1);
+        objects_[id] = Object{std::move(shape), pose, true};
+        return id;
+    }
+    /// Removes an object (ends its interest-matrix pairs and drops its filters). Throws for an unknown id.
+    void remove(ObjectId id) {
+        check_id(id, "remove");
+        std::visit([&](auto& bp) { bp.remove(id); }, bp_);
+        interest_.forget(id);
+        objects_[id] = Object{};
+    }
+    /// Moves an object. Throws cdkit::Error for an unknown id or a pose that is not a finite rigid motion.
+    void set_pose(ObjectId id, const Transform<S>& pose) {
+        check_id(id, "set_pose");
+        check_pose(pose, "set_pose");
+        objects_[id].pose = pose;
+        const BroadBox<S> box = objects_[id].shape->world_box(pose);
+        std::visit([&](auto& bp) { bp.move(id, box); }, bp_);
+    }
+    [[nodiscard]] bool contains(ObjectId id) const noexcept { return id < objects_.size() && objects_[id].alive; }
+    [[nodiscard]] const Transform<S>& pose(ObjectId id) const { check_id(id, "pose"); return objects_[id].pose; }
+    [[nodiscard]] const Shape<S>& shape(ObjectId id) const { check_id(id, "shape"); return *objects_[id].shape; }
+    [[nodiscard]] std::size_t size() const noexcept {
+        return std::visit([](const auto& bp) { return bp.size(); }, bp_);
+    }
+    [[nodiscard]] const WorldOptions& options() const noexcept { return options_; }
+    /// Switches the TBB narrow phase on or off.
+    void set_parallel(bool on) noexcept { options_.parallel = on; }
+
+    /// Interest matrix: object groups (0..63, default 0), which groups are tested, per-pair overrides.
+    void set_group(ObjectId id, std::uint8_t group) { check_id(id, "set_group"); interest_.set_group(id, group); }
+    void set_groups_tested(std::uint8_t g, std::uint8_t h, bool tested) { interest_.set_groups_tested(g, h, tested); }
+    void set_pair_tested(ObjectId a, ObjectId b, bool tested) {
+        check_id(a, "set_pair_tested");
+        check_id(b, "set_pair_tested");
+        interest_.set_pair_tested(a, b, tested);
+    }
+    [[nodiscard]] bool pair_tested(ObjectId a, ObjectId b) const noexcept { return interest_.tested(a, b); }
+
+    /// One pass of the pipeline at the current poses: the contacts of all tested pairs, sorted by (a, b).
+    [[nodiscard]] WorldStepResult<S> step() {
+        WorldStepResult<S> out;
+        candidates_.clear();
+        interest_.begin_frame();
+        std::visit([&](auto& bp) {
+            bp.for_each_pair([&](ObjectId a, ObjectId b) {
+                ++out.stats.broad_pairs;
+                interest_.report(a, b);  // tested pairs land in candidates_ through on_begin / on_persist
+            });
+        }, bp_);
+        interest_.finish_frame();  // erases only pairs not reported this frame: the cache pointers stay valid
+        out.stats.tested_pairs = candidates_.size();
+
+        results_.assign(candidates_.size(), std::nullopt);
+        auto run = [&](std::size_t i) {
+            const ObjectPair p = candidates_[i].pair;
+            const Object& a = objects_[p.a];
+            const Object& b = objects_[p.b];
+            results_[i] = collide_shapes(p.a, *a.shape, a.pose, p.b, *b.shape, b.pose, candidates_[i].cache);
+        };
+#if defined(CDKIT_HAS_TBB)
+        if (options_.parallel && candidates_.size() >= options_.parallel_min_pairs) {
+            out.stats.ran_parallel = true;
+            tbb::parallel_for(std::size_t(0), candidates_.size(), run);
+        } else {
+            for (std::size_t i = 0; i < candidates_.size(); ++i) run(i);
+        }
+#else
+        for (std::size_t i = 0; i < candidates_.size(); ++i) run(i);
+#endif
+        for (auto& r : results_)
+            if (r) {
+                out.stats.gjk_iterations += std::size_t(r->gjk_iterations);
+                out.contacts.push_back(*r);
+            }
+        std::sort(out.contacts.begin(), out.contacts.end());
+        out.stats.contacts = out.contacts.size();
+        return out;
+    }
+
+private:
+    struct Object {
+        std::optional<Shape<S>> shape;
+        Transform<S> pose{};
+        bool alive = false;
+    };
+    struct Candidate {
+        ObjectPair pair;
+        GjkCache<S>* cache;
+    };
+    static void check_pose(const Transform<S>& pose, const char* op) {
+        if (!pose_is_usable(pose))
+            throw Error("<world>", std::string(op) + " pose", "not a finite rigid motion (rotation must be orthonormal, det +1)");
+    }
+    void check_id(ObjectId id, const char* op) const {
+        if (!contains(id))
+            throw Error("<world>", std::string(op) + " object " + std::to_string(id),
+                        id < objects_.size() ? "already removed" : "unknown id");
+    }
+
+    WorldOptions options_;
+    std::variant<DynamicAabbTree<S>, SweepAndPrune<S>, UniformGrid<S>, BruteForceBroadPhase<S>> bp_;
+    InterestMatrix<GjkCache<S>> interest_;
+    std::vector<Object> objects_;
+    std::vector<Candidate> candidates_;
+    std::vector<std::optional<WorldContact<S>>> results_;
+};
+
+}  // namespace cdkit

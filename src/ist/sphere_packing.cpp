@@ -1,0 +1,370 @@
+// Greedy inner sphere packing (see include/cdkit/ist/sphere_packing.hpp for the method).
+#include "cdkit/ist/sphere_packing.hpp"
+
+#include "cdkit/ist/closed_mesh.hpp"
+#include "cdkit/ist/inside_test.hpp"
+#include "cdkit/ist/point_mesh_distance.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <string>
+#include <unordered_map>
+
+#if defined(CDKIT_HAS_TBB) && CDKIT_HAS_TBB
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#endif
+
+namespace cdkit {
+namespace {
+
+using Vec3d = Vec3<double>;
+
+template <class F> void parallel_for_index(std::size_t n, F&& f) {
+#if defined(CDKIT_HAS_TBB) && CDKIT_HAS_TBB
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+    });
+#else
+    for (std::size_t i = 0; i < n; ++i) f(i);
+#endif
+}
+
+/// Placed spheres in a multi-level hash grid: a sphere of radius r sits in the level whose cell size is
+/// the first power-of-two multiple of `base` ≥ r, in the cell holding its centre. A query for spheres
+/// whose surface is nearer than T then scans, per level of size s, the cells within T + s.
+class SphereIndex {
+public:
+    SphereIndex(const Vec3d& origin, double base) : origin_(origin), base_(base) {}
+
+    void insert(std::uint32_t id, const InnerSphere& s) {
+        int l = 0;
+        double size = base_;
+        while (size < s.radius && l < 40) size *= 2, ++l;
+        if (std::size_t(l) >= levels_.size()) levels_.resize(l + 1);
+        Level& L = levels_[l];
+        L.size = size;
+        L.cells[key(cell(s.center, size))].push_back(id);
+    }
+
+    /// Calls f(id) for every sphere that may have |p − c| − r < T (a superset).
+    template <class F> void for_near(const Vec3d& p, double T, F&& f) const {
+        for (const Level& L : levels_) {
+            if (L.cells.empty()) continue;
+            const double reach = T + L.size;
+            const auto lo = cell(p - Vec3d::Constant(reach), L.size), hi = cell(p + Vec3d::Constant(reach), L.size);
+            const double span = double(hi[0] - lo[0] + 1) * double(hi[1] - lo[1] + 1) * double(hi[2] - lo[2] + 1);
+            if (span > double(L.cells.size())) {  // fewer occupied cells than cells in range: scan them all
+                for (const auto& [k, ids] : L.cells)
+                    for (std::uint32_t id : ids) f(id);
+                continue;
+            }
+            for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+                for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+                    for (std::int64_t x = lo[0]; x <= hi[0]; ++x) {
+                        auto it = L.cells.find(key({x, y, z}));
+                        if (it == L.cells.end()) continue;
+                        for (std::uint32_t id : it->second) f(id);
+                    }
+        }
+    }
+
+private:
+    struct Level {
+        double size = 0;
+        std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+    };
+    [[nodiscard]] std::array<std::int64_t, 3> cell(const Vec3d& p, double size) const noexcept {
+        std::array<std::int64_t, 3> c;
+        for (int k = 0; k < 3; ++k)
+            c[k] = std::clamp<std::int64_t>(std::int64_t(std::floor((p[k] - origin_[k]) / size)), 0, (1 << 21) - 1);
+        return c;
+    }
+    static std::uint64_t key(const std::array<std::int64_t, 3>& c) noexcept {
+        return std::uint64_t(c[0]) | (std::uint64_t(c[1]) << 21) | (std::uint64_t(c[2]) << 42);
+    }
+    Vec3d origin_;
+    double base_;
+    std::vector<Level> levels_;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOptions& options) {
+    if (options.max_spheres < 1) throw Error(mesh.source, "PackingOptions", "max_spheres must be at least 1");
+    if (!(options.target_coverage > 0 && options.target_coverage <= 1))
+        throw Error(mesh.source, "PackingOptions", "target_coverage must lie in (0, 1]");
+    if (options.grid_resolution != 0 && (options.grid_resolution < 4 || options.grid_resolution > 1024))
+        throw Error(mesh.source, "PackingOptions", "grid_resolution must be 0 (auto) or in [4, 1024]");
+    if (options.depth_calibration_iterations < 0 || options.depth_calibration_iterations > 100)
+        throw Error(mesh.source, "PackingOptions", "depth_calibration_iterations must lie in [0, 100]");
+
+    SpherePacking out;
+    out.mesh_volume = check_closed_mesh(mesh);
+    const auto t0 = std::chrono::steady_clock::now();
+
+    Vec3d lo = Vec3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Triangle& t : mesh.triangles)
+        for (Index v : t) lo = lo.cwiseMin(mesh.vertices[v]), hi = hi.cwiseMax(mesh.vertices[v]);
+    const double extent = (hi - lo).maxCoeff();
+    const int res = options.grid_resolution > 0
+                        ? options.grid_resolution
+                        : std::clamp(int(std::lround(6 * std::cbrt(double(options.max_spheres)))), 48, 320);
+    const double h = extent / res;
+    std::mt19937_64 rng(options.seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const Vec3d jitter(unit(rng), unit(rng), unit(rng));
+    const Vec3d origin = lo + jitter * h;
+    std::array<std::int64_t, 3> dims;
+    for (int k = 0; k < 3; ++k) dims[k] = std::max<std::int64_t>(1, std::int64_t(std::floor((hi[k] - origin[k]) / h)) + 1);
+    const std::size_t total = std::size_t(dims[0] * dims[1] * dims[2]);
+    if (total > (std::size_t(1) << 31)) throw Error(mesh.source, "PackingOptions", "grid_resolution too large for this mesh");
+    auto grid_point = [&](std::size_t g) {
+        const std::int64_t x = std::int64_t(g % dims[0]), y = std::int64_t((g / dims[0]) % dims[1]),
+                           z = std::int64_t(g / (dims[0] * dims[1]));
+        return Vec3d(origin.x() + x * h, origin.y() + y * h, origin.z() + z * h);
+    };
+
+    // 1. Samples. One ray per grid column gives every sample's inside flag and an upper bound of its surface
+    //    distance (the nearest crossing along the column). Samples within 1e-9·extent of a crossing, and
+    //    columns that graze an edge, take the exact per-point test instead of the rounded crossing positions.
+    const InsideTest inside(mesh);
+    const PointMeshDistance surface(mesh);
+    std::vector<std::uint8_t> is_in(total, 0);
+    std::vector<double> bound(total, 0.0);
+    const std::size_t columns = std::size_t(dims[1] * dims[2]);
+    const double eps = 1e-9 * extent;
+    parallel_for_index(columns, [&](std::size_t col) {
+        const std::int64_t y = std::int64_t(col % dims[1]), z = std::int64_t(col / dims[1]);
+        const std::size_t base = std::size_t(z * dims[1] + y) * dims[0];
+        const double py = origin.y() + y * h, pz = origin.z() + z * h;
+        std::vector<std::pair<double, int>> cross;
+        if (!inside.line_crossings(py, pz, cross)) {
+            for (std::int64_t x = 0; x < dims[0]; ++x) {
+                const Vec3d p(origin.x() + x * h, py, pz);
+                is_in[base + x] = inside.inside(p) ? 1 : 0;
+                bound[base + x] = std::numeric_limits<double>::infinity();
+            }
+            return;
+        }
+        std::sort(cross.begin(), cross.end());
+        int ahead = 0;
+        for (const auto& c : cross) ahead += c.second;
+        std::size_t next = 0;  // first crossing with t > x
+        for (std::int64_t x = 0; x < dims[0]; ++x) {
+            const double px = origin.x() + x * h;
+            while (next < cross.size() && cross[next].first <= px) ahead -= cross[next++].second;
+            const double gap_prev = next > 0 ? px - cross[next - 1].first : std::numeric_limits<double>::infinity();
+            const double gap_next = next < cross.size() ? cross[next].first - px : std::numeric_limits<double>::infinity();
+            const double gap = std::min(gap_prev, gap_next);
+            is_in[base + x] = gap > eps ? (ahead != 0) : inside.inside(Vec3d(px, py, pz));
+            bound[base + x] = gap;
+        }
+    });
+    std::vector<std::int32_t> cand_of(total, -1);
+    std::vector<std::uint32_t> cand_grid;
+    for (std::size_t g = 0; g < total; ++g)
+        if (is_in[g]) cand_of[g] = std::int32_t(cand_grid.size()), cand_grid.push_back(std::uint32_t(g));
+    is_in = {};
+    const std::size_t n_cand = cand_grid.size();
+    // key: an upper bound of the clearance; exact[c] once the surface distance has been measured (lazily,
+    // when the sample reaches the top of the heap: most samples are swallowed by spheres before that).
+    std::vector<double> key(n_cand);
+    std::vector<std::uint8_t> exact(n_cand, 0);
+    for (std::size_t c = 0; c < n_cand; ++c) key[c] = bound[cand_grid[c]];
+    bound = {};
+    out.stats.grid_points = total;
+    out.stats.inside_points = n_cand;
+    out.stats.grid_spacing = h;
+    out.stats.seconds_sampling = seconds_since(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+
+    // 2–4. Greedy placement from a lazy max-heap (an entry is live while its key equals key[c]).
+    std::vector<std::int32_t> owner(n_cand, -1);
+    std::vector<std::uint8_t> alive(n_cand, 1);
+    using Entry = std::pair<double, std::uint32_t>;
+    std::vector<Entry> heap;
+    heap.reserve(n_cand);
+    for (std::size_t c = 0; c < n_cand; ++c)
+        if (key[c] > 0) heap.emplace_back(key[c], std::uint32_t(c));
+        else alive[c] = 0;
+    std::make_heap(heap.begin(), heap.end());
+    SphereIndex index(lo - Vec3d::Constant(h), h);
+    const double min_radius = 1e-9 * extent;
+    const double target_volume = options.target_coverage * out.mesh_volume;
+    std::vector<std::uint32_t> near;
+    static const Vec3d dirs[6] = {Vec3d::UnitX(), -Vec3d::UnitX(), Vec3d::UnitY(), -Vec3d::UnitY(), Vec3d::UnitZ(), -Vec3d::UnitZ()};
+    out.stop = PackingStop::no_room;
+    while (true) {
+        if (out.spheres.size() >= options.max_spheres) { out.stop = PackingStop::max_spheres; break; }
+        if (out.sphere_volume >= target_volume) { out.stop = PackingStop::target_coverage; break; }
+        if (heap.empty()) break;
+        std::pop_heap(heap.begin(), heap.end());
+        const auto [f0, c0] = heap.back();
+        heap.pop_back();
+        if (!alive[c0] || f0 != key[c0]) continue;  // stale entry
+        if (!exact[c0]) {  // measure the surface distance now, and requeue with the exact key
+            exact[c0] = 1;
+            ++out.stats.distance_queries;
+            key[c0] = std::min(key[c0], surface.query(grid_point(cand_grid[c0]), key[c0]).distance);
+            heap.emplace_back(key[c0], c0);
+            std::push_heap(heap.begin(), heap.end());
+            continue;
+        }
+        if (f0 <= min_radius) break;
+        const Vec3d p0 = grid_point(cand_grid[c0]);
+        // The refined centre stays within M of p0; spheres farther than T from p0 cannot bound the clearance
+        // anywhere in that ball below f0 + M, which caps the radius.
+        const double M = std::min(h, f0 + 0.25 * h);
+        const double T = f0 + 2 * M;
+        near.clear();
+        index.for_near(p0, T, [&](std::uint32_t id) {
+            const InnerSphere& s = out.spheres[id];
+            if ((p0 - s.center).norm() - s.radius < T) near.push_back(id);
+        });
+        auto clearance = [&](const Vec3d& x) {
+            double g = f0 + M;
+            for (std::uint32_t id : near) g = std::min(g, (x - out.spheres[id].center).norm() - out.spheres[id].radius);
+            if (g <= 0) return g;
+            ++out.stats.distance_queries;
+            return std::min(g, surface.query(x, g).distance);
+        };
+        Vec3d x = p0;
+        double g = clearance(p0);
+        // Pattern search towards the inner Voronoi node. A step shorter than the clearance stays inside the
+        // empty ball around x, so the centre never crosses the surface.
+        for (double step = 0.5 * h; step > h / 32;) {
+            const double s = std::min(step, 0.5 * g);
+            if (s <= h / 32) break;
+            double best = g;
+            Vec3d bx = x;
+            for (const Vec3d& d : dirs) {
+                const Vec3d y = x + s * d;
+                if ((y - p0).norm() > M) continue;
+                const double gy = clearance(y);
+                if (gy > best) best = gy, bx = y;
+            }
+            if (best > g) x = bx, g = best;
+            else step *= 0.5;
+        }
+        const double r = g * (1 - 1e-12);
+        if (!(r > min_radius)) continue;
+        const std::uint32_t sid = std::uint32_t(out.spheres.size());
+        out.spheres.push_back({x, r});
+        out.sphere_volume += out.spheres.back().volume();
+        index.insert(sid, out.spheres.back());
+        // Samples within 2r can have their clearance lowered (every live key is ≤ f0 ≤ r).
+        std::array<std::int64_t, 3> a, b;
+        for (int k = 0; k < 3; ++k) {
+            a[k] = std::max<std::int64_t>(0, std::int64_t(std::ceil((x[k] - 2 * r - origin[k]) / h)));
+            b[k] = std::min<std::int64_t>(dims[k] - 1, std::int64_t(std::floor((x[k] + 2 * r - origin[k]) / h)));
+        }
+        for (std::int64_t z = a[2]; z <= b[2]; ++z)
+            for (std::int64_t y = a[1]; y <= b[1]; ++y)
+                for (std::int64_t xi = a[0]; xi <= b[0]; ++xi) {
+                    const std::size_t gi = std::size_t((z * dims[1] + y) * dims[0] + xi);
+                    const std::int32_t c = cand_of[gi];
+                    if (c < 0) continue;
+                    const double d = (grid_point(gi) - x).norm() - r;
+                    if (d >= key[c]) continue;
+                    key[c] = d;
+                    owner[c] = std::int32_t(sid);
+                    if (!alive[c]) continue;
+                    if (d <= 0) alive[c] = 0;
+                    else heap.emplace_back(d, std::uint32_t(c)), std::push_heap(heap.begin(), heap.end());
+                }
+        if (alive[c0] && owner[c0] != std::int32_t(sid)) heap.emplace_back(key[c0], c0), std::push_heap(heap.begin(), heap.end());
+    }
+
+    // Cell weights: each inside sample belongs to the sphere whose surface is nearest.
+    std::vector<double> cell_count(out.spheres.size(), 0.0);
+    if (!out.spheres.empty()) {
+        for (std::size_t c = 0; c < n_cand; ++c) {
+            std::int32_t o = owner[c];
+            if (o < 0) {  // never reached by a sphere's update: search outwards
+                const Vec3d p = grid_point(cand_grid[c]);
+                double best = std::numeric_limits<double>::infinity();
+                for (double T = 2 * h;; T *= 2) {
+                    index.for_near(p, T, [&](std::uint32_t id) {
+                        const double d = (p - out.spheres[id].center).norm() - out.spheres[id].radius;
+                        if (d < best) best = d, o = std::int32_t(id);
+                    });
+                    if ((o >= 0 && best < T) || T > 4 * extent) break;
+                }
+            }
+            if (o >= 0) cell_count[std::size_t(o)] += 1;
+        }
+    }
+    out.cell_weights.resize(out.spheres.size());
+    const double per_sample = n_cand ? out.mesh_volume / double(n_cand) : 0.0;
+    for (std::size_t i = 0; i < out.spheres.size(); ++i)
+        out.cell_weights[i] = std::max(1.0, cell_count[i] * per_sample / out.spheres[i].volume());
+
+    // Depth profile: make the weighted sphere volume match the mesh's volume in each layer of depth (distance
+    // to the surface), so that a shallow contact, which only reaches the outer layers, sees the right density.
+    if (options.depth_calibration && !out.spheres.empty()) {
+        // 16 layers two samples thick, then one for everything deeper; one sample per layer was noisier
+        // (docs/ist.md).
+        constexpr int layers = 16;
+        const double lw = 2 * h;
+        const double D = layers * lw;
+        std::vector<std::uint8_t> layer_of(n_cand, std::uint8_t(layers));
+        parallel_for_index(n_cand, [&](std::size_t c) {
+            if (key[c] < 0 && -key[c] >= D) return;  // deep inside its sphere (spheres lie inside the mesh)
+            const double d = surface.query(grid_point(cand_grid[c]), D).distance;
+            if (d < D) layer_of[c] = std::uint8_t(std::min(layers - 1, int(d / lw)));
+        });
+        const std::size_t n = out.spheres.size();
+        std::vector<double> mesh_layer(layers + 1, 0.0);
+        std::vector<std::array<double, layers + 1>> share(n);  // sphere volume per layer
+        std::vector<double> inside_count(n, 0.0);
+        for (std::size_t i = 0; i < n; ++i) share[i].fill(0.0);
+        for (std::size_t c = 0; c < n_cand; ++c) {
+            mesh_layer[layer_of[c]] += per_sample;
+            if (key[c] < 0 && owner[c] >= 0) share[std::size_t(owner[c])][layer_of[c]] += 1, inside_count[std::size_t(owner[c])] += 1;
+        }
+        layer_of = {};
+        // Spheres holding few samples: model the surface near them as a plane at the distance of their centre.
+        constexpr double pi = 3.14159265358979323846;
+        auto below = [](double r, double t) {  // volume of a ball of radius r below height t (from its centre)
+            t = std::clamp(t, -r, r);
+            return pi * (r + t) * (r + t) * (2 * r - t) / 3;
+        };
+        parallel_for_index(n, [&](std::size_t i) {
+            const InnerSphere& s = out.spheres[i];
+            if (inside_count[i] >= 8) {
+                for (double& x : share[i]) x *= s.volume() / inside_count[i];
+                return;
+            }
+            const double d = std::max(s.radius, std::min(surface.query(s.center, D + s.radius).distance, D + s.radius));
+            for (int k = 0; k <= layers; ++k) {
+                const double top = k == layers ? std::numeric_limits<double>::infinity() : (k + 1) * lw;
+                share[i][k] = below(s.radius, top - d) - below(s.radius, k * lw - d);
+            }
+        });
+        std::vector<double> w = out.cell_weights;
+        for (int iter = 0; iter < options.depth_calibration_iterations; ++iter) {
+            std::array<double, layers + 1> f{};
+            for (std::size_t i = 0; i < n; ++i)
+                for (int k = 0; k <= layers; ++k) f[k] += w[i] * share[i][k];
+            for (int k = 0; k <= layers; ++k) f[k] = f[k] > 0 ? mesh_layer[k] / f[k] : 1.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                double v = 0, fv = 0;
+                for (int k = 0; k <= layers; ++k) v += share[i][k], fv += f[k] * share[i][k];
+                if (v > 0) w[i] *= fv / v;
+            }
+        }
+        for (std::size_t i = 0; i < n; ++i) out.cell_weights[i] = std::max(1.0, w[i]);
+    }
+    out.stats.seconds_placing = seconds_since(t1);
+    return out;
+}
+
+}  // namespace cdkit

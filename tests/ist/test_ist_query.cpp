@@ -1,0 +1,192 @@
+// IST queries against brute force over all sphere pairs and against the analytic lens volume; symmetry,
+// time-critical bounds, invalid poses and concurrent const queries.
+#include "ist_test_util.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+#include <set>
+#include <thread>
+
+using namespace cdkit;
+using cdkit::test::scaled;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Transform<double> random_pose(std::mt19937_64& rng, double spread) {
+    std::uniform_real_distribution<double> u(-spread, spread);
+    return {test::random_rotation(rng), Vec3<double>(u(rng), u(rng), u(rng))};
+}
+
+const InnerSphereTree& sphere_tree() {
+    static const InnerSphereTree tree = [] {
+        PackingOptions p;
+        p.max_spheres = 300;
+        p.grid_resolution = 32;
+        return build_inner_sphere_tree(test::uv_sphere(1.0, 32, 64), p);
+    }();
+    return tree;
+}
+
+}  // namespace
+
+TEST_CASE("lens volume formula: limits and symmetry", "[ist][query]") {
+    CHECK(sphere_intersection_volume(1, 1, 2) == 0);
+    CHECK(sphere_intersection_volume(1, 1, 3) == 0);
+    CHECK(sphere_intersection_volume(1, 0.5, 0.2) == Approx(4.0 / 3.0 * kPi * 0.125));
+    CHECK(sphere_intersection_volume(1, 1, 1e-9) == Approx(4.0 / 3.0 * kPi).epsilon(1e-6));
+    // Two unit spheres at distance 1: 5π/12.
+    CHECK(sphere_intersection_volume(1, 1, 1) == Approx(5 * kPi / 12).epsilon(1e-12));
+    CHECK(sphere_intersection_volume(0.7, 0.4, 0.9) == Approx(sphere_intersection_volume(0.4, 0.7, 0.9)).epsilon(1e-14));
+    // Continuous at both ends of the lens range.
+    CHECK(sphere_intersection_volume(1, 0.5, 1.5 - 1e-9) < 1e-12);
+    CHECK(sphere_intersection_volume(1, 0.5, 0.5 + 1e-9) == Approx(4.0 / 3.0 * kPi * 0.125).epsilon(1e-6));
+}
+
+TEST_CASE("penetration volume equals brute force over all sphere pairs", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    std::mt19937_64 rng(21);
+    int hits = 0;
+    const int n = scaled(40, 8);
+    for (int i = 0; i < n; ++i) {
+        const auto pa = random_pose(rng, 0.3), pb = random_pose(rng, 0.9);
+        const auto r = penetration_volume(t, pa, t, pb);
+        const auto bf = test::brute_volume(t, pa, t, pb);
+        REQUIRE(r.status == QueryStatus::ok);
+        CHECK(r.complete);
+        CHECK(r.volume == Approx(bf.volume).epsilon(1e-10).margin(1e-15));
+        CHECK(r.volume_lower == r.volume);
+        CHECK(r.volume_upper == r.volume);
+        std::set<std::pair<std::uint32_t, std::uint32_t>> got;
+        double sum = 0;
+        for (const auto& p : r.pairs) got.emplace(p.a, p.b), sum += p.volume;
+        CHECK(got == std::set<std::pair<std::uint32_t, std::uint32_t>>(bf.pairs.begin(), bf.pairs.end()));
+        CHECK(sum == Approx(r.volume).epsilon(1e-12).margin(1e-15));
+        CHECK(r.calibrated >= r.volume);
+        // Symmetric in A and B.
+        const auto s = penetration_volume(t, pb, t, pa);
+        CHECK(s.volume == Approx(r.volume).epsilon(1e-10).margin(1e-15));
+        hits += r.volume > 0;
+    }
+    CHECK(hits >= n / 4);
+    CHECK(hits < n);  // some poses must be apart, or the test could not see a false overlap
+}
+
+TEST_CASE("penetration volume is zero when apart, and distance equals brute force", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    std::mt19937_64 rng(22);
+    int apart = 0;
+    for (int i = 0; i < scaled(40, 8); ++i) {
+        const auto pa = random_pose(rng, 0.2), pb = random_pose(rng, 2.0);
+        const auto q = ist_query(t, pa, t, pb);
+        const double bf = test::brute_distance(t, pa, t, pb);
+        REQUIRE(q.status == QueryStatus::ok);
+        if (bf > 0) {
+            ++apart;
+            CHECK_FALSE(q.overlapping);
+            CHECK(q.volume.volume == 0);
+            CHECK(q.volume.pairs.empty());
+            CHECK(q.distance.distance == Approx(bf).epsilon(1e-10));
+            CHECK((q.distance.point_a - q.distance.point_b).norm() == Approx(bf).epsilon(1e-9));
+            const auto& sa = t.spheres()[q.distance.sphere_a];
+            const auto& sb = t.spheres()[q.distance.sphere_b];
+            CHECK((pa * sa.center - q.distance.point_a).norm() == Approx(sa.radius).epsilon(1e-9));
+            CHECK((pb * sb.center - q.distance.point_b).norm() == Approx(sb.radius).epsilon(1e-9));
+        } else if (bf < -1e-12) {
+            CHECK(q.overlapping);
+            CHECK(q.volume.volume > 0);
+            CHECK(sphere_distance(t, pa, t, pb).distance == 0);
+        }
+    }
+    CHECK(apart >= 4);
+}
+
+TEST_CASE("sphere meshes: penetration volume matches the analytic lens", "[ist][query]") {
+    const InnerSphereTree& t = sphere_tree();
+    CHECK(t.coverage() > 0.9);  // the first inner sphere nearly fills the tessellated ball
+    for (double d : {0.3, 0.6, 1.0, 1.4, 1.8}) {
+        const Transform<double> pb(Mat3<double>::Identity(), Vec3<double>(d, 0.1 * d, 0));
+        const double dist = pb.t.norm();
+        const double exact = sphere_intersection_volume(1, 1, dist);
+        const auto r = penetration_volume(t, {}, t, pb);
+        INFO("distance " << dist << " IST " << r.volume << " analytic " << exact);
+        // Thin lenses (d near 2) are the most sensitive to the tessellation's inward sag (~0.5% of r).
+        CHECK(r.volume == Approx(exact).epsilon(dist < 1.5 ? 0.05 : 0.12));
+        CHECK(r.volume <= exact);  // inner spheres lie inside the ball
+    }
+    const Transform<double> apart(Mat3<double>::Identity(), Vec3<double>(2.05, 0, 0));
+    CHECK(penetration_volume(t, {}, t, apart).volume == 0);
+    CHECK(sphere_distance(t, {}, t, apart).distance == Approx(0.05).margin(0.03));
+}
+
+TEST_CASE("time-critical mode: the interval holds the exact volume and tightens with the budget", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    std::mt19937_64 rng(23);
+    int tested = 0;
+    for (int i = 0; i < scaled(20, 6); ++i) {
+        const auto pa = random_pose(rng, 0.2), pb = random_pose(rng, 0.6);
+        const double exact = penetration_volume(t, pa, t, pb).volume;
+        if (exact == 0) continue;
+        ++tested;
+        double first_width = -1;
+        for (std::uint64_t budget : {10, 100, 1000, 100000000}) {
+            IstRequest req;
+            req.max_node_tests = budget;
+            const auto r = penetration_volume(t, pa, t, pb, req);
+            INFO("budget " << budget << " exact " << exact << " [" << r.volume_lower << ", " << r.volume_upper << "]");
+            CHECK(r.volume_lower <= exact * (1 + 1e-12));
+            CHECK(r.volume_upper >= exact * (1 - 1e-12));
+            CHECK(r.volume >= r.volume_lower);
+            CHECK(r.volume <= r.volume_upper);
+            if (first_width < 0) first_width = r.volume_upper - r.volume_lower;
+            if (budget == 1000) CHECK(r.volume_upper - r.volume_lower < first_width);
+            if (budget == 100000000) {
+                CHECK(r.complete);
+                CHECK(r.volume == Approx(exact).epsilon(1e-10));
+            }
+        }
+        IstRequest req;
+        req.max_node_tests = 20;
+        const auto d = sphere_distance(t, pa, t, pb, req);
+        CHECK(d.lower_bound <= std::max(0.0, test::brute_distance(t, pa, t, pb)) + 1e-12);
+    }
+    CHECK(tested >= 2);
+}
+
+TEST_CASE("invalid poses are refused", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    Transform<double> bad;
+    bad.R(0, 0) = 2;
+    CHECK(penetration_volume(t, {}, t, bad).status == QueryStatus::invalid_pose);
+    CHECK(sphere_distance(t, bad, t, {}).status == QueryStatus::invalid_pose);
+    bad = {};
+    bad.t.x() = std::numeric_limits<double>::quiet_NaN();
+    CHECK(ist_query(t, {}, t, bad).status == QueryStatus::invalid_pose);
+}
+
+TEST_CASE("const queries from several threads give identical results", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    std::mt19937_64 rng(24);
+    std::vector<std::pair<Transform<double>, Transform<double>>> poses;
+    for (int i = 0; i < scaled(30, 6); ++i) poses.emplace_back(random_pose(rng, 0.2), random_pose(rng, 1.2));
+    std::vector<double> ref_volume, ref_distance;
+    for (const auto& [pa, pb] : poses) {
+        const auto q = ist_query(t, pa, t, pb);
+        ref_volume.push_back(q.volume.volume);
+        ref_distance.push_back(q.distance.distance);
+    }
+    std::vector<int> mismatches(4, 0);
+    std::vector<std::thread> threads;
+    for (int k = 0; k < 4; ++k)
+        threads.emplace_back([&, k] {
+            for (int rep = 0; rep < 3; ++rep)
+                for (std::size_t i = 0; i < poses.size(); ++i) {
+                    const auto q = ist_query(t, poses[i].first, t, poses[i].second);
+                    mismatches[k] += q.volume.volume != ref_volume[i] || q.distance.distance != ref_distance[i];
+                }
+        });
+    for (auto& th : threads) th.join();
+    for (int m : mismatches) CHECK(m == 0);
+}

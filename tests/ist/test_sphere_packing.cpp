@@ -1,0 +1,276 @@
+// Sphere packing: spheres inside the mesh and disjoint (independent brute force), coverage, determinism,
+// and the input gate (open, non-manifold, flipped, empty, flat meshes).
+#include "ist_test_util.hpp"
+
+#include "cdkit/ist/closed_mesh.hpp"
+#include "cdkit/ist/inside_test.hpp"
+#include "cdkit/ist/point_mesh_distance.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace cdkit;
+using cdkit::test::scaled;
+
+namespace {
+
+// Distance from p to the mesh by brute force over the triangles (independent of the packer's BVH search:
+// a projection-or-segment computation, not the Voronoi-region code).
+double brute_surface_distance(const TriangleMesh<double>& m, const Vec3<double>& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const auto [a, b, c] = m.triangle(t);
+        const Vec3<double> n = (b - a).cross(c - a);
+        const double nn = n.squaredNorm();
+        if (nn > 0) {
+            const Vec3<double> q = p - n * (n.dot(p - a) / nn);
+            if (n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 && n.dot((a - c).cross(q - c)) >= 0)
+                best = std::min(best, (p - q).norm());
+        }
+        for (const auto& [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+            const Vec3<double> e = v - u;
+            const double s = std::clamp((p - u).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+            best = std::min(best, (p - (u + s * e)).norm());
+        }
+    }
+    return best;
+}
+
+void require_error_containing(const TriangleMesh<double>& m, const std::string& what) {
+    try {
+        (void)pack_spheres(m, PackingOptions{50});
+        FAIL("no cdkit::Error for " << what);
+    } catch (const Error& e) {
+        INFO(e.what());
+        CHECK(std::string(e.what()).find(what) != std::string::npos);
+        CHECK(std::string(e.what()).find(m.source) != std::string::npos);
+    }
+}
+
+TriangleMesh<double> tetra() {
+    TriangleMesh<double> m;
+    m.source = "<tetra>";
+    m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("closed mesh gate: volume of known solids", "[ist][packing]") {
+    const auto sphere = test::uv_sphere(1.0, 48, 96);
+    CHECK(check_closed_mesh(sphere) == Approx(4.0 / 3.0 * 3.14159265358979 ).epsilon(0.01));
+    CHECK(check_closed_mesh(tetra()) == Approx(1.0 / 6.0).epsilon(1e-12));
+    auto inward = tetra();
+    for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+    CHECK(signed_mesh_volume(inward) == Approx(-1.0 / 6.0).epsilon(1e-12));
+    CHECK(check_closed_mesh(inward) == Approx(1.0 / 6.0).epsilon(1e-12));  // inward-facing but consistent
+}
+
+TEST_CASE("bad meshes are rejected with cdkit::Error and the edge counts", "[ist][packing]") {
+    SECTION("open teapot") {
+        require_error_containing(load_mesh(test::data_path("teapot.obj")), "boundary (open) edges");
+    }
+    SECTION("one flipped face") {
+        auto m = test::uv_sphere(1.0, 8, 16);
+        std::swap(m.triangles[5][1], m.triangles[5][2]);
+        require_error_containing(m, "3 inconsistently oriented edges");
+    }
+    SECTION("non-manifold: two tetrahedra on one edge") {
+        auto m = tetra();
+        m.vertices.push_back({0.5, -1, -1});
+        m.vertices.push_back({0.5, -1, 1});
+        m.triangles.push_back({0, 1, 4});
+        m.triangles.push_back({1, 0, 5});
+        m.triangles.push_back({0, 4, 5});
+        m.triangles.push_back({1, 5, 4});
+        require_error_containing(m, "non-manifold edges");
+    }
+    SECTION("empty") {
+        TriangleMesh<double> m;
+        m.source = "<empty>";
+        require_error_containing(m, "no triangles");
+    }
+    SECTION("zero volume: a doubled triangle") {
+        TriangleMesh<double> m;
+        m.source = "<flat>";
+        m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+        m.triangles = {{0, 1, 2}, {0, 2, 1}};
+        require_error_containing(m, "encloses no volume");
+    }
+    SECTION("tiny: volume underflows") {
+        auto m = tetra();
+        for (auto& v : m.vertices) v *= 1e-120;
+        require_error_containing(m, "encloses no volume");
+    }
+    SECTION("NaN vertex") {
+        auto m = tetra();
+        m.vertices[2].x() = std::numeric_limits<double>::quiet_NaN();
+        require_error_containing(m, "NaN");
+    }
+    SECTION("options out of range") {
+        PackingOptions o;
+        o.target_coverage = 1.5;
+        CHECK_THROWS_AS(pack_spheres(tetra(), o), Error);
+        o = {};
+        o.max_spheres = 0;
+        CHECK_THROWS_AS(pack_spheres(tetra(), o), Error);
+        CHECK_THROWS_AS(InnerSphereTree(SpherePacking{}), Error);
+    }
+}
+
+TEST_CASE("inside test agrees with the generalised winding number", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    const InsideTest inside(bunny);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.05, 1.05);
+    int in = 0;
+    const int n = scaled(400, 60);
+    for (int i = 0; i < n; ++i) {
+        const Vec3<double> p(u(rng), u(rng), u(rng));
+        const double w = winding_number(bunny, p);
+        if (std::abs(w - std::round(w)) > 0.01) continue;  // too near the surface to call
+        INFO("point " << p.transpose() << " winding " << w);
+        CHECK(inside.winding(p) == int(std::lround(w)));
+        in += inside.inside(p);
+    }
+    CHECK(in > n / 20);  // the test must see inside points, not only outside ones
+}
+
+TEST_CASE("packed spheres lie inside the mesh and do not overlap (brute force)", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    PackingOptions o;
+    o.max_spheres = std::size_t(scaled(300, 60));
+    o.grid_resolution = 32;
+    const SpherePacking p = pack_spheres(bunny, o);
+    REQUIRE(p.spheres.size() == o.max_spheres);
+    CHECK(p.stop == PackingStop::max_spheres);
+    const auto& s = p.spheres;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        INFO("sphere " << i << " at " << s[i].center.transpose() << " r " << s[i].radius);
+        REQUIRE(s[i].radius > 0);
+        CHECK(std::abs(winding_number(bunny, s[i].center) - 1.0) < 1e-6);
+        CHECK(brute_surface_distance(bunny, s[i].center) >= s[i].radius);
+        for (std::size_t j = 0; j < i; ++j) REQUIRE((s[i].center - s[j].center).norm() >= s[i].radius + s[j].radius);
+    }
+    double vol = 0;
+    for (const auto& x : s) vol += x.volume();
+    CHECK(p.sphere_volume == Approx(vol).epsilon(1e-12));
+    CHECK(p.coverage() == Approx(vol / p.mesh_volume).epsilon(1e-12));
+    CHECK(p.coverage() > 0.5);
+    CHECK(p.coverage() < 1.0);
+    REQUIRE(p.cell_weights.size() == s.size());
+    double cells = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) cells += p.cell_weights[i] * s[i].volume();
+    CHECK(cells >= vol);                      // weights ≥ 1
+    CHECK(cells == Approx(p.mesh_volume).epsilon(0.2));  // cells tile the mesh (up to the clamping at 1)
+}
+
+TEST_CASE("coverage grows with the sphere count; packing is deterministic per seed", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    PackingOptions o;
+    o.grid_resolution = 40;
+    o.max_spheres = 600;
+    const SpherePacking p = pack_spheres(bunny, o);
+    double last = 0;
+    for (std::size_t n : {1, 10, 50, 200, 600}) {
+        const double c = p.coverage_of_first(n);
+        CHECK(c > last);
+        last = c;
+    }
+    CHECK(p.coverage_of_first(600) > p.coverage_of_first(50) + 0.05);
+    const SpherePacking again = pack_spheres(bunny, o);
+    REQUIRE(again.spheres.size() == p.spheres.size());
+    for (std::size_t i = 0; i < p.spheres.size(); ++i) {
+        CHECK(again.spheres[i].center == p.spheres[i].center);
+        CHECK(again.spheres[i].radius == p.spheres[i].radius);
+    }
+    o.target_coverage = 0.6;
+    const SpherePacking partial = pack_spheres(bunny, o);
+    CHECK(partial.stop == PackingStop::target_coverage);
+    CHECK(partial.coverage() >= 0.6);
+    CHECK(partial.spheres.size() < p.spheres.size());
+}
+
+TEST_CASE("point-mesh distance on the tree equals brute force", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    const PointMeshDistance dist(bunny);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.3, 1.3);
+    for (int i = 0; i < scaled(100, 20); ++i) {
+        const Vec3<double> p(u(rng), u(rng), u(rng));
+        const auto q = dist.query(p);
+        CHECK(q.distance == Approx(brute_surface_distance(bunny, p)).epsilon(1e-9).margin(1e-12));
+        CHECK((q.point - p).norm() == Approx(q.distance).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("tree over the packing: valid, out-degree respected, leaves are the spheres", "[ist][tree]") {
+    const auto bunny = test::unit_bunny();
+    PackingOptions o;
+    o.grid_resolution = 32;
+    o.max_spheres = 300;
+    const SpherePacking p = pack_spheres(bunny, o);
+    for (int degree : {2, 4, 8}) {
+        IstBuildOptions b;
+        b.out_degree = degree;
+        const InnerSphereTree t(p, b);
+        CHECK_NOTHROW(t.validate());
+        CHECK(t.spheres().size() == p.spheres.size());
+        CHECK(t.coverage() == Approx(p.coverage()).epsilon(1e-9));
+        std::size_t leaves = 0, max_children = 0;
+        for (const auto& n : t.nodes()) {
+            leaves += n.is_leaf();
+            max_children = std::max<std::size_t>(max_children, n.count);
+        }
+        CHECK(leaves == p.spheres.size());
+        CHECK(max_children <= std::size_t(degree));
+        CHECK(t.stats().depth >= 2);
+        CHECK(t.stats().depth < 40);
+    }
+}
+
+TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and their total near the volume", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    PackingOptions o;
+    o.grid_resolution = 40;
+    o.max_spheres = 400;
+    o.depth_calibration = false;
+    const SpherePacking plain = pack_spheres(bunny, o);
+    o.depth_calibration = true;
+    o.depth_calibration_iterations = 0;
+    const SpherePacking none = pack_spheres(bunny, o);  // zero rounds: the plain cell weights
+    o.depth_calibration_iterations = 4;
+    const SpherePacking fitted = pack_spheres(bunny, o);
+    REQUIRE(fitted.spheres.size() == plain.spheres.size());
+    REQUIRE(fitted.cell_weights.size() == plain.cell_weights.size());
+    CHECK(none.cell_weights == plain.cell_weights);
+    double total = 0;
+    std::size_t changed = 0, raised_small = 0, small = 0;
+    double median_radius = 0;
+    {
+        std::vector<double> r;
+        for (const auto& s : fitted.spheres) r.push_back(s.radius);
+        std::nth_element(r.begin(), r.begin() + std::ptrdiff_t(r.size() / 2), r.end());
+        median_radius = r[r.size() / 2];
+    }
+    for (std::size_t i = 0; i < fitted.spheres.size(); ++i) {
+        CHECK(fitted.spheres[i].radius == plain.spheres[i].radius);  // the spheres themselves do not change
+        CHECK(fitted.cell_weights[i] >= 1.0);
+        total += fitted.cell_weights[i] * fitted.spheres[i].volume();
+        changed += fitted.cell_weights[i] != plain.cell_weights[i];
+        if (fitted.spheres[i].radius < median_radius) {
+            ++small;
+            raised_small += fitted.cell_weights[i] > plain.cell_weights[i];
+        }
+    }
+    CHECK(changed > fitted.spheres.size() / 2);
+    CHECK(total == Approx(fitted.mesh_volume).epsilon(0.2));
+    // The outer layer holds the most empty space, and the small spheres sit there: most of them gain weight.
+    CHECK(raised_small > small / 2);
+    o.depth_calibration_iterations = -1;
+    CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+    o.depth_calibration_iterations = 101;
+    CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+}
