@@ -41,12 +41,13 @@ template <class BV, class M = typename BV::Scalar> [[nodiscard]] std::string cdk
     return n;
 }
 
-template <class BV, class M = typename BV::Scalar> class CdkitMethod final : public Method {
+/// A cdkit model timed through cdkit::collide (a MeshModel or a RestrictedBoxtree); S is its mesh's scalar.
+/// `build` constructs the model and fills the BuildInfo; it is timed here.
+template <class Model, class S> class CollideMethod final : public Method {
 public:
-    using S = M;
-
-    CdkitMethod(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options)
-        : name_(cdkit_method_name<BV, M>()), model_(build(std::move(mesh), options)) {}
+    template <class Build>
+    CollideMethod(std::string name, Build&& build, const char* bytes_note)
+        : name_(std::move(name)), model_(timed(std::forward<Build>(build), bytes_note)) {}
 
     const std::string& name() const noexcept override { return name_; }
     const std::string& family() const noexcept override { return family_; }
@@ -76,77 +77,43 @@ private:
     }
     static cdkit::Transform<S> cast(const Pose& p) { return cdkit::Transform<double>(p.R, p.t).template cast<S>(); }
 
-    cdkit::MeshModel<BV, M> build(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh, const cdkit::BuildOptions& options) {
+    template <class Build> Model timed(Build&& build, const char* bytes_note) {
         const auto t0 = Clock::now();
-        cdkit::MeshModel<BV, M> m(mesh, options);
+        Model m = build();
         info_.build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         info_.tree_bytes = m.memory_bytes();
-        info_.tree_bytes_note = "MeshModel::memory_bytes()";
+        info_.tree_bytes_note = bytes_note;
         info_.mesh_bytes = m.mesh().memory_bytes();
-        info_.nodes = m.bvh().nodes().size();
+        if constexpr (requires { m.bvh(); }) info_.nodes = m.bvh().nodes().size();
+        else info_.nodes = m.nodes().size();
         info_.single_precision = std::is_same_v<S, float>;
         return m;
     }
 
     std::string name_;
     std::string family_ = "cdkit";
-    BuildInfo info_;  // filled by build(), which runs in model_'s initialiser: declared before model_
-    cdkit::MeshModel<BV, M> model_;
+    BuildInfo info_;  // filled by timed(), which runs in model_'s initialiser: declared before model_
+    Model model_;
 };
+
+/// A MeshModel<BV, M> with the run's build options.
+template <class BV, class M = typename BV::Scalar>
+[[nodiscard]] std::unique_ptr<Method> make_mesh_model_method(std::shared_ptr<const cdkit::TriangleMesh<M>> mesh,
+                                                             const cdkit::BuildOptions& options) {
+    return std::make_unique<CollideMethod<cdkit::MeshModel<BV, M>, M>>(
+        cdkit_method_name<BV, M>(), [&] { return cdkit::MeshModel<BV, M>(mesh, options); }, "MeshModel::memory_bytes()");
+}
 
 /// The restricted boxtree of one scalar type (default build options: implied-box SAH split, one-child
 /// nodes where a face cuts off ≥ 25 % of a box's area).
-template <class S> class BoxtreeMethod final : public Method {
-public:
-    static std::string method_name() { return std::is_same_v<S, float> ? "cdkit_boxtree_f" : "cdkit_boxtree_d"; }
-
-    explicit BoxtreeMethod(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh)
-        : name_(method_name()), tree_(build(std::move(mesh))) {}
-
-    const std::string& name() const noexcept override { return name_; }
-    const std::string& family() const noexcept override { return family_; }
-    const BuildInfo& build_info() const noexcept override { return info_; }
-
-    Outcome probe(const Pose& pose, Mode mode) override {
-        const auto r = cdkit::collide(tree_, cdkit::Transform<S>::identity(), tree_, cast(pose), request(mode));
-        return {r.colliding, r.contacts.size(), r.stats.bv_tests, r.stats.primitive_tests};
-    }
-
-    Timed time(const Pose& pose, Mode mode, std::size_t reps) override {
-        const cdkit::Transform<S> pa = cdkit::Transform<S>::identity();
-        const cdkit::Transform<S> pb = cast(pose);
-        const cdkit::CollisionRequest req = request(mode);
-        return time_batch(reps, [&] {
-            const auto r = cdkit::collide(tree_, pa, tree_, pb, req);
-            return std::pair<bool, std::size_t>(r.colliding, r.contacts.size());
-        });
-    }
-
-private:
-    static cdkit::CollisionRequest request(Mode mode) noexcept {
-        cdkit::CollisionRequest r;
-        r.mode = mode == Mode::first ? cdkit::ContactMode::first : cdkit::ContactMode::all;
-        return r;
-    }
-    static cdkit::Transform<S> cast(const Pose& p) { return cdkit::Transform<double>(p.R, p.t).template cast<S>(); }
-
-    cdkit::RestrictedBoxtree<S> build(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh) {
-        const auto t0 = Clock::now();
-        cdkit::RestrictedBoxtree<S> tree(std::move(mesh));
-        info_.build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        info_.tree_bytes = tree.memory_bytes();
-        info_.tree_bytes_note = "RestrictedBoxtree::memory_bytes()";
-        info_.mesh_bytes = tree.mesh().memory_bytes();
-        info_.nodes = tree.nodes().size();
-        info_.single_precision = std::is_same_v<S, float>;
-        return tree;
-    }
-
-    std::string name_;
-    std::string family_ = "cdkit";
-    BuildInfo info_;  // filled by build(), which runs in tree_'s initialiser: declared before tree_
-    cdkit::RestrictedBoxtree<S> tree_;
-};
+template <class S> [[nodiscard]] std::string boxtree_method_name() {
+    return std::is_same_v<S, float> ? "cdkit_boxtree_f" : "cdkit_boxtree_d";
+}
+template <class S>
+[[nodiscard]] std::unique_ptr<Method> make_boxtree_method(std::shared_ptr<const cdkit::TriangleMesh<S>> mesh) {
+    return std::make_unique<CollideMethod<cdkit::RestrictedBoxtree<S>, S>>(
+        boxtree_method_name<S>(), [&] { return cdkit::RestrictedBoxtree<S>(mesh); }, "RestrictedBoxtree::memory_bytes()");
+}
 
 /// Names of all cdkit methods, in CdkitBvs order, then the float-over-double models, then the boxtrees.
 [[nodiscard]] inline std::vector<std::string> cdkit_method_names() {
@@ -154,8 +121,8 @@ private:
                             CdkitBvs{});
     std::apply([&](auto... bv) { (names.push_back(cdkit_method_name<decltype(bv), double>()), ...); },
                CdkitFloatOverDoubleBvs{});
-    names.push_back(BoxtreeMethod<double>::method_name());
-    names.push_back(BoxtreeMethod<float>::method_name());
+    names.push_back(boxtree_method_name<double>());
+    names.push_back(boxtree_method_name<float>());
     return names;
 }
 
@@ -169,16 +136,16 @@ private:
     std::vector<std::unique_ptr<Method>> out;
     auto add = [&]<class BV>(BV*) {
         if (!wanted(cdkit_method_name<BV>())) return;
-        if constexpr (std::is_same_v<typename BV::Scalar, float>) out.push_back(std::make_unique<CdkitMethod<BV>>(mf, options));
-        else out.push_back(std::make_unique<CdkitMethod<BV>>(md, options));
+        if constexpr (std::is_same_v<typename BV::Scalar, float>) out.push_back(make_mesh_model_method<BV>(mf, options));
+        else out.push_back(make_mesh_model_method<BV>(md, options));
     };
     std::apply([&](auto... bv) { (add(static_cast<decltype(bv)*>(nullptr)), ...); }, CdkitBvs{});
     auto add_over_double = [&]<class BV>(BV*) {
-        if (wanted(cdkit_method_name<BV, double>())) out.push_back(std::make_unique<CdkitMethod<BV, double>>(md, options));
+        if (wanted(cdkit_method_name<BV, double>())) out.push_back(make_mesh_model_method<BV, double>(md, options));
     };
     std::apply([&](auto... bv) { (add_over_double(static_cast<decltype(bv)*>(nullptr)), ...); }, CdkitFloatOverDoubleBvs{});
-    if (wanted(BoxtreeMethod<double>::method_name())) out.push_back(std::make_unique<BoxtreeMethod<double>>(md));
-    if (wanted(BoxtreeMethod<float>::method_name())) out.push_back(std::make_unique<BoxtreeMethod<float>>(mf));
+    if (wanted(boxtree_method_name<double>())) out.push_back(make_boxtree_method(md));
+    if (wanted(boxtree_method_name<float>())) out.push_back(make_boxtree_method(mf));
     return out;
 }
 

@@ -207,7 +207,9 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         if (out.sphere_volume >= target_volume) { out.stop = PackingStop::target_coverage; break; }
         if (heap.empty()) break;
         std::pop_heap(heap.begin(), heap.end());
-        const auto [f0, c0] = heap.back();
+        // Plain variables, not a structured binding: lambdas below capture them (clang 14 cannot capture bindings).
+        const double f0 = heap.back().first;
+        const auto c0 = heap.back().second;
         heap.pop_back();
         if (!alive[c0] || f0 != key[c0]) continue;  // stale entry
         if (!exact[c0]) {  // measure the surface distance now, and requeue with the exact key

@@ -1,9 +1,8 @@
-// Dynamic AABB tree: pair sets against brute force over seeded edit scripts, stable handles, balance,
-// coherence statistics, bad input, and concurrent const queries.
+// Dynamic AABB tree: stable handles, balance, coherence statistics, rebuilds, bad input, and concurrent const
+// queries (its pair sets over seeded edit scripts are checked with the other broad phases in test_broadphase.cpp).
 #include <catch2/catch.hpp>
 
-#include "cdkit/broadphase/brute_force.hpp"
-#include "cdkit/broadphase/dynamic_aabb_tree.hpp"
+#include "broadphase_check.hpp"
 #include "test_common.hpp"
 
 #include <algorithm>
@@ -16,103 +15,9 @@
 using namespace cdkit;
 using B = BroadBox<double>;
 
-namespace {
-
-template <class BP> std::vector<ObjectPair> sorted_pairs(BP& bp) {
-    auto v = bp.find_pairs();
-    for (const auto& p : v) REQUIRE(p.a < p.b);
-    std::sort(v.begin(), v.end());
-    REQUIRE(std::adjacent_find(v.begin(), v.end()) == v.end());  // each pair once
-    return v;
-}
-
-B random_box(std::mt19937& rng, double world, double smin, double smax) {
-    std::uniform_real_distribution<double> pos(0.0, world), sz(smin, smax);
-    const Vec3<double> c(pos(rng), pos(rng), pos(rng));
-    const Vec3<double> h(sz(rng), sz(rng), sz(rng));
-    return B::from_center_half(c, h * 0.5);
-}
-
-/// The same edit script on brute force and two trees (default margins and zero margin).
-struct Pair3 {
-    BruteForceBroadPhase<double> bf;
-    DynamicAabbTree<double> tree;
-    DynamicAabbTree<double> tight{{0.0, 0.0}};
-    ObjectId insert(const B& b) {
-        const ObjectId id = bf.insert(b);
-        REQUIRE(tree.insert(b) == id);  // same id policy: handles agree with brute force's
-        REQUIRE(tight.insert(b) == id);
-        return id;
-    }
-    void remove(ObjectId id) { bf.remove(id); tree.remove(id); tight.remove(id); }
-    void move(ObjectId id, const B& b) { bf.move(id, b); tree.move(id, b); tight.move(id, b); }
-    std::size_t check(bool validate = true) {
-        const auto ref = sorted_pairs(bf);
-        CHECK(sorted_pairs(tree) == ref);
-        CHECK(sorted_pairs(tight) == ref);
-        if (validate) {
-            CHECK_NOTHROW(tree.validate());
-            CHECK_NOTHROW(tight.validate());
-        }
-        return ref.size();
-    }
-};
-
-}  // namespace
-
-TEST_CASE("dynamic AABB tree equals brute force over seeded insert/remove/move frames", "[broadphase][dbvt]") {
-    for (unsigned seed = 1; seed <= 3; ++seed) {
-        std::mt19937 rng(seed);
-        Pair3 q;
-        std::vector<ObjectId> ids;
-        const int n = 300;
-        const double world = 20;
-        for (int i = 0; i < n; ++i) ids.push_back(q.insert(random_box(rng, world, 0.2, 2.0)));
-        std::normal_distribution<double> step(0.0, 0.1);
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        std::size_t total_pairs = 0, frames = 0;
-        const int nframes = cdkit::test::scaled(60, 40);
-        for (int f = 0; f < nframes; ++f) {
-            for (ObjectId id : ids) {
-                const double r = u(rng);
-                if (r < 0.02) {
-                    q.move(id, random_box(rng, world, 0.2, 2.0));  // teleport
-                } else if (r < 0.04) {
-                    const B b = q.bf.box(id);  // shrink to a point: the fat box becomes too loose
-                    q.move(id, {b.lo, b.lo});
-                } else {
-                    const B b = q.bf.box(id);
-                    const Vec3<double> d(step(rng), step(rng), step(rng));
-                    q.move(id, {b.lo + d, b.hi + d});  // Brownian step
-                }
-            }
-            if (f % 5 == 2) {  // removals and inserts (ids get reused)
-                for (int k = 0; k < 10; ++k) {
-                    const std::size_t at = std::size_t(u(rng) * double(ids.size())) % ids.size();
-                    q.remove(ids[at]);
-                    ids.erase(ids.begin() + std::ptrdiff_t(at));
-                }
-                for (int k = 0; k < 12; ++k) ids.push_back(q.insert(random_box(rng, world, 0.2, 2.0)));
-            }
-            if (f % 7 == 3) {  // remove and re-insert before the frame: the reused id is a new object
-                const ObjectId victim = ids.front();
-                q.remove(victim);
-                ids.erase(ids.begin());
-                const ObjectId again = q.insert(random_box(rng, world, 0.2, 2.0));
-                CHECK(again == victim);
-                ids.push_back(again);
-            }
-            if (f == 20)
-                for (ObjectId id : ids) q.move(id, random_box(rng, world, 0.2, 2.0));  // mass teleport: rebuild path
-            if (f == 30) q.tree.rebuild();  // explicit rebuild between frames
-            total_pairs += q.check();
-            ++frames;
-        }
-        // Hit rate: pairs exist, and far fewer than all pairs (culling is being exercised).
-        CHECK(total_pairs > frames * 25);
-        CHECK(total_pairs < frames * std::size_t(n) * n / 20);
-    }
-}
+using test::random_box;
+using test::sorted_pairs;
+using Pair3 = test::AllBroadPhases;  // the trees against brute force (and the other broad phases)
 
 TEST_CASE("dynamic AABB tree: handles are stable and boxes are kept per handle", "[broadphase][dbvt]") {
     std::mt19937 rng(3);

@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <numeric>
+#include <random>
+#include <thread>
 #include <vector>
 
 namespace cdkit::test {
@@ -53,6 +55,30 @@ int collide_equals_brute_force(const MeshModel<BV, M>& a, const MeshModel<BV, M>
         if (!ref.colliding) CHECK(got.stats.primitive_tests < a.mesh().num_triangles() * b.mesh().num_triangles());
     }
     return hits;
+}
+
+/// Const queries from four threads at once on shared models (MeshModel or RestrictedBoxtree): every thread
+/// must get the serial answers (contact counts) on `poses` near poses, `reps` times over; at least
+/// `min_hits` poses must collide so that the check means something.
+template <class ModelA, class ModelB>
+void check_concurrent_collide(const ModelA& a, const ModelB& b, int poses, int reps, int min_hits) {
+    std::mt19937_64 rng(99);
+    std::vector<Transform<double>> pose;
+    for (int i = 0; i < poses; ++i) pose.push_back(near_pose<double>(rng, 2.0));
+    std::vector<std::size_t> expected;
+    for (const auto& p : pose) expected.push_back(collide(a, Transform<double>(), b, p, {ContactMode::all}).contacts.size());
+    std::vector<int> mismatches(4, 0);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&, t] {
+            for (int rep = 0; rep < reps; ++rep)
+                for (std::size_t i = 0; i < pose.size(); ++i)
+                    if (collide(a, Transform<double>(), b, pose[i], {ContactMode::all}).contacts.size() != expected[i])
+                        ++mismatches[t];
+        });
+    for (auto& th : threads) th.join();
+    CHECK(mismatches == std::vector<int>(4, 0));
+    CHECK(std::count_if(expected.begin(), expected.end(), [](std::size_t n) { return n > 0; }) > min_hits);
 }
 
 template <class BV> BV fit_all(const TriangleMesh<typename BV::Scalar>& m) {

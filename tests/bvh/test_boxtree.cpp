@@ -330,21 +330,5 @@ TEST_CASE("Restricted boxtree: touching, coincident and truncated", "[boxtree]")
 TEST_CASE("Restricted boxtree collide is thread-safe", "[boxtree][threads]") {
     const RestrictedBoxtree<double> a(test::uv_sphere<double>(1.0, 12, 24));
     const RestrictedBoxtree<double> b(test::random_soup<double>(300, 0.2, 3));
-    std::mt19937_64 rng(99);
-    std::vector<Transform<double>> poses;
-    for (int i = 0; i < 120; ++i) poses.push_back(test::near_pose<double>(rng, 2.0));
-    std::vector<std::size_t> expected;
-    for (const auto& p : poses) expected.push_back(collide(a, Transform<double>(), b, p, {ContactMode::all}).contacts.size());
-    std::vector<int> mismatches(4, 0);
-    std::vector<std::thread> threads;
-    for (int t = 0; t < 4; ++t)
-        threads.emplace_back([&, t] {
-            for (int rep = 0; rep < 2; ++rep)
-                for (std::size_t i = 0; i < poses.size(); ++i)
-                    if (collide(a, Transform<double>(), b, poses[i], {ContactMode::all}).contacts.size() != expected[i])
-                        ++mismatches[t];
-        });
-    for (auto& th : threads) th.join();
-    CHECK(mismatches == std::vector<int>(4, 0));
-    CHECK(std::count_if(expected.begin(), expected.end(), [](std::size_t n) { return n > 0; }) > 12);
+    test::check_concurrent_collide(a, b, 120, 2, 12);
 }

@@ -60,7 +60,7 @@ TEST_CASE("separating plane near contact: never wrong, the cached plane still an
     auto run = [&](const auto& sb, int& frames, int& wrong, int& hits, int& gjk_calls) {
         SeparatingPlaneCache<double> cache;
         Transform<double> pa, pb;
-        for (int f = 0; f < test::scaled(800, 80); ++f) {
+        for (int f = 0; f < test::scaled(800, 400); ++f) {  // the plane needs a few hundred frames to settle
             pa.R = Eigen::AngleAxisd(0.009 * f, Vec3<double>(1, 2, 3).normalized()).toRotationMatrix();
             pb.R = Eigen::AngleAxisd(0.012 * f, Vec3<double>(-1, 2, 0.5).normalized()).toRotationMatrix();
             pb.t = 3.0 * Vec3<double>(std::cos(0.005 * f), std::sin(0.005 * f), 0.1);

@@ -130,21 +130,5 @@ TEST_CASE("collide: max_contacts truncates", "[collide]") {
 TEST_CASE("collide is thread-safe: concurrent queries on shared models", "[collide][threads]") {
     const MeshModel<Obb<double>> a(test::uv_sphere<double>(1.0, 16, 32));
     const MeshModel<Obb<double>> b(test::random_soup<double>(400, 0.2, 3));
-    std::mt19937_64 rng(99);
-    std::vector<Transform<double>> poses;
-    for (int i = 0; i < 200; ++i) poses.push_back(test::near_pose<double>(rng, 2.0));
-    std::vector<std::size_t> expected;
-    for (const auto& p : poses) expected.push_back(collide(a, Transform<double>(), b, p, {ContactMode::all}).contacts.size());
-    std::vector<int> mismatches(4, 0);
-    std::vector<std::thread> threads;
-    for (int t = 0; t < 4; ++t)
-        threads.emplace_back([&, t] {
-            for (int rep = 0; rep < 3; ++rep)
-                for (std::size_t i = 0; i < poses.size(); ++i)
-                    if (collide(a, Transform<double>(), b, poses[i], {ContactMode::all}).contacts.size() != expected[i])
-                        ++mismatches[t];
-        });
-    for (auto& th : threads) th.join();
-    CHECK(mismatches == std::vector<int>(4, 0));
-    CHECK(std::count_if(expected.begin(), expected.end(), [](std::size_t n) { return n > 0; }) > 20);
+    test::check_concurrent_collide(a, b, 200, 3, 20);
 }
