@@ -57,6 +57,19 @@ inline TriangleMesh<double> unit_scaled(TriangleMesh<double> m) {
     return m;
 }
 
+/// A smooth non-rigid deformation (bend and bulge) of a mesh, for refit tests: same vertices and triangles.
+template <class S> TriangleMesh<S> deformed(const TriangleMesh<S>& m, double amount) {
+    TriangleMesh<S> d = m;
+    d.source = "<deformed>";
+    for (auto& v : d.vertices) {
+        const Vec3<double> p = v.template cast<double>();
+        v = Vec3<double>(p.x() * (1 + amount * p.z()), p.y() + amount * std::sin(3 * p.x()),
+                         p.z() + amount * p.x() * p.y())
+                .template cast<S>();
+    }
+    return d;
+}
+
 /// A uniformly random rotation (from a uniform unit quaternion).
 template <class S = double> Mat3<S> random_rotation(std::mt19937_64& rng) {
     std::normal_distribution<double> g;

@@ -9,6 +9,7 @@
 /// is also timed on one stored sample of the corpus (all families), and time per test is written beside its
 /// disagreement rate (--speed-csv, default accuracy_speed.csv) for the time-against-error plot.
 
+#include "../cli_args.hpp"
 #include "hard_cases.hpp"
 #include "mesh_factory.hpp"
 #include "oracles.hpp"
@@ -47,22 +48,15 @@ struct Options {
 
 Options parse(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc) {
-                std::cerr << "missing value after " << a << "\n";
-                std::exit(2);
-            }
-            return argv[++i];
-        };
-        if (a == "--cases") o.cases = std::atoll(value().c_str());
-        else if (a == "--seed") o.seed = std::strtoull(value().c_str(), nullptr, 10);
-        else if (a == "--csv") o.csv = value();
-        else if (a == "--mesh-csv") o.mesh_csv = value();
-        else if (a == "--speed-csv") o.speed_csv = value();
+    for (cdbench::ArgCursor args(argc, argv); args.next();) {
+        const std::string a = args.flag();
+        if (a == "--cases") o.cases = std::atoll(args.value().c_str());
+        else if (a == "--seed") o.seed = std::strtoull(args.value().c_str(), nullptr, 10);
+        else if (a == "--csv") o.csv = args.value();
+        else if (a == "--mesh-csv") o.mesh_csv = args.value();
+        else if (a == "--speed-csv") o.speed_csv = args.value();
         else if (a == "--no-mesh") o.mesh = false;
-        else if (a == "--max-mesh-triangles") o.max_mesh_triangles = std::strtoull(value().c_str(), nullptr, 10);
+        else if (a == "--max-mesh-triangles") o.max_mesh_triangles = std::strtoull(args.value().c_str(), nullptr, 10);
         else {
             std::cerr << "usage: cdkit_bench_accuracy [--cases N] [--seed S] [--csv FILE] [--mesh-csv FILE]"
                          " [--speed-csv FILE] [--no-mesh]"

@@ -1,10 +1,7 @@
 /// \file CGAL's exact kernel as the referee of the accuracy benchmark (the only TU that includes CGAL).
 
 #include "oracles.hpp"
-
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
-#include <CGAL/intersections.h>
-#include <CGAL/squared_distance_3.h>
+#include "oracles/cgal_simplex.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -12,37 +9,9 @@
 namespace cdkit::accuracy {
 namespace {
 
-using EK = CGAL::Exact_predicates_exact_constructions_kernel;
-using P = EK::Point_3;
-
-/// A triangle as it is in exact arithmetic: dim 2 triangle (a, b, c), 1 segment (a, b), 0 point a.
-struct Simplex {
-    int dim = 2;
-    P a, b, c;
-};
-
-Simplex simplex(const Tri3& t) {
-    const P a(t[0].x(), t[0].y(), t[0].z()), b(t[1].x(), t[1].y(), t[1].z()), c(t[2].x(), t[2].y(), t[2].z());
-    if (!CGAL::collinear(a, b, c)) return {2, a, b, c};
-    if (a == b && b == c) return {0, a, a, a};
-    // Collinear: the segment between the farthest pair contains the third point.
-    const auto ab = CGAL::squared_distance(a, b), bc = CGAL::squared_distance(b, c), ca = CGAL::squared_distance(c, a);
-    if (ab >= bc && ab >= ca) return {1, a, b, a};
-    if (bc >= ca) return {1, b, c, b};
-    return {1, c, a, c};
-}
-
-bool intersect(const Simplex& s, const Simplex& t) {
-    if (s.dim < t.dim) return intersect(t, s);
-    switch (s.dim * 3 + t.dim) {
-    case 8: return CGAL::do_intersect(EK::Triangle_3(s.a, s.b, s.c), EK::Triangle_3(t.a, t.b, t.c));
-    case 7: return CGAL::do_intersect(EK::Segment_3(t.a, t.b), EK::Triangle_3(s.a, s.b, s.c));
-    case 6: return EK::Triangle_3(s.a, s.b, s.c).has_on(t.a);
-    case 4: return CGAL::do_intersect(EK::Segment_3(s.a, s.b), EK::Segment_3(t.a, t.b));
-    case 3: return EK::Segment_3(s.a, s.b).has_on(t.a);
-    default: return s.a == t.a;
-    }
-}
+using test::cgal::Simplex;
+using test::cgal::intersect;
+using test::cgal::simplex;
 
 }  // namespace
 

@@ -8,12 +8,14 @@
 ///   default meshes: data/bunny.obj and every data/dragon/dragon_*.ply present (scripts/fetch-data);
 ///   --quick: the bunny and dragon_48k only, fewer rows.
 
+#include "../cli_args.hpp"
 #include "peer_fcl.hpp"
 
 #include "cdkit/bv/aabb.hpp"
 #include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/sphere.hpp"
+#include "cdkit/bvh/boxtree_collide.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/io/load_mesh.hpp"
 #include "cdkit/query.hpp"
@@ -50,20 +52,13 @@ struct Options {
 
 Options parse(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "%s needs a value\n", a.c_str());
-                std::exit(2);
-            }
-            return argv[++i];
-        };
+    for (cdbench::ArgCursor args(argc, argv); args.next();) {
+        const std::string a = args.flag();
         if (a == "--quick") o.quick = true;
-        else if (a == "--mesh") o.meshes.push_back(value());
-        else if (a == "--reps") o.reps = std::max(1, std::atoi(value().c_str()));
-        else if (a == "--poses") o.poses = std::max(1, std::atoi(value().c_str()));
-        else if (a == "--csv") o.csv = value();
+        else if (a == "--mesh") o.meshes.push_back(args.value());
+        else if (a == "--reps") o.reps = std::max(1, std::atoi(args.value().c_str()));
+        else if (a == "--poses") o.poses = std::max(1, std::atoi(args.value().c_str()));
+        else if (a == "--csv") o.csv = args.value();
         else if (a == "--no-fcl") o.fcl = false;
         else {
             std::fprintf(stderr, "usage: cdkit_bench_build [--quick] [--mesh PATH]... [--reps N] [--poses N] [--csv FILE] [--no-fcl]\n");
@@ -125,6 +120,14 @@ struct Row {
     int colliding = 0;
 };
 
+/// The degradation column: "–" where the tree has no volume measure (negative).
+std::string degradation_text(const Row& r) {
+    if (r.degradation < 0) return "–";
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2f", r.degradation);
+    return b;
+}
+
 double median(std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
     return v[v.size() / 2];
@@ -144,6 +147,10 @@ template <class M> TriangleMesh<M> as_scalar(const TriangleMesh<double>& m) {
     if constexpr (std::is_same_v<M, double>) return m;
     else return m.template cast<M>();
 }
+
+template <class Model, class M>
+void measure_queries_and_refit(Model& model, const std::shared_ptr<const TriangleMesh<M>>& moved,
+                               const std::vector<Transform<double>>& poses, Row& r);
 
 /// One cdkit row: BV over a mesh of scalar M.
 template <class BV, class M>
@@ -176,23 +183,53 @@ Row measure(const std::string& name, const std::string& method, const TriangleMe
         const MeshModel<BV, M> m1(mesh, one);
         r.build_1t_ms = ms_since(t0);
     }
-    r.tree_bytes = model->memory_bytes();
-    r.mesh_bytes = mesh->vertices.size() * 3 * sizeof(M) + mesh->triangles.size() * sizeof(Triangle);
-    // Query time on the freshly built tree.
+    measure_queries_and_refit(*model, moved, poses, r);
+    r.degradation = model->degradation();
+    return r;
+}
+
+/// The columns every tree shares: bytes, first-contact query time on the freshly built tree, then the refit
+/// after the deformation (validation of the moved mesh included: refit() checks it).
+template <class Model, class M>
+void measure_queries_and_refit(Model& model, const std::shared_ptr<const TriangleMesh<M>>& moved,
+                               const std::vector<Transform<double>>& poses, Row& r) {
+    r.tree_bytes = model.memory_bytes();
+    r.mesh_bytes = moved->vertices.size() * 3 * sizeof(M) + moved->triangles.size() * sizeof(Triangle);
     std::vector<double> us;
     for (const auto& p : poses) {
         const Transform<M> pb = p.template cast<M>();
         const auto t0 = Clock::now();
-        const auto res = collide(*model, Transform<M>(), *model, pb);
+        const auto res = collide(model, Transform<M>(), model, pb);
         us.push_back(ms_since(t0) * 1e3);
         r.colliding += res.colliding;
     }
     r.query_us = median(us);
-    // Refit after the deformation (validation of the moved mesh included: MeshModel::refit checks it).
     const auto t0 = Clock::now();
-    model->refit(moved);
+    model.refit(moved);
     r.refit_ms = ms_since(t0);
-    r.degradation = model->degradation();
+}
+
+/// A restricted boxtree row (bvh/boxtree.hpp): its own implied-SAH build, one triangle per leaf, sequential.
+template <class M>
+Row measure_boxtree(const std::string& name, const TriangleMesh<double>& mesh_d, const TriangleMesh<double>& moved_d,
+                    const std::vector<Transform<double>>& poses, int reps) {
+    const auto mesh = std::make_shared<const TriangleMesh<M>>(as_scalar<M>(mesh_d));
+    const auto moved = std::make_shared<const TriangleMesh<M>>(as_scalar<M>(moved_d));
+    Row r;
+    r.mesh = name;
+    r.triangles = mesh->triangles.size();
+    r.method = std::is_same_v<M, float> ? "boxtree_f" : "boxtree_d";
+    r.split = "implied_sah";
+    std::vector<double> t;
+    std::unique_ptr<RestrictedBoxtree<M>> tree;
+    for (int i = 0; i < reps; ++i) {
+        const auto t0 = Clock::now();
+        tree = std::make_unique<RestrictedBoxtree<M>>(mesh);
+        t.push_back(ms_since(t0));
+    }
+    r.build_ms = r.build_1t_ms = median(t);
+    measure_queries_and_refit(*tree, moved, poses, r);
+    r.degradation = -1;  // no volume measure for implied boxes
     return r;
 }
 
@@ -250,6 +287,8 @@ int main(int argc, char** argv) {
         rows.push_back(measure<Obb<float>, double>(name, "obb_f/d", mesh, moved, poses, SplitStrategy::median, 4, reps));
         rows.push_back(measure<Aabb<float>, float>(name, "aabb_f", mesh, moved, poses, SplitStrategy::median, 4, reps));
         rows.push_back(measure<Obb<float>, float>(name, "obb_f", mesh, moved, poses, SplitStrategy::median, 4, reps));
+        rows.push_back(measure_boxtree<double>(name, mesh, moved, poses, reps));
+        rows.push_back(measure_boxtree<float>(name, mesh, moved, poses, reps));
         if (o.fcl)
             for (const auto& kind : cdbuild::fcl_bv_kinds())
                 fcl_rows.push_back({name, kind, mesh.triangles.size(), cdbuild::fcl_build_and_refit(kind, mesh, moved, reps),
@@ -259,24 +298,24 @@ int main(int argc, char** argv) {
     std::printf("\n| mesh | triangles | method | split | leaf | build ms | 1-thread ms | tree B/tri | tree/mesh | refit ms | "
                 "degradation | query µs | colliding |\n|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const Row& r : rows)
-        std::printf("| %s | %zu | cdkit %s | %s | %u | %.1f | %.1f | %.1f | %.2f | %.1f | %.2f | %.1f | %d |\n", r.mesh.c_str(),
+        std::printf("| %s | %zu | cdkit %s | %s | %u | %.1f | %.1f | %.1f | %.2f | %.1f | %s | %.1f | %d |\n", r.mesh.c_str(),
                     r.triangles, r.method.c_str(), r.split.c_str(), r.leaf, r.build_ms, r.build_1t_ms,
                     double(r.tree_bytes) / double(r.triangles), double(r.tree_bytes) / double(r.mesh_bytes), r.refit_ms,
-                    r.degradation, r.query_us, r.colliding);
+                    degradation_text(r).c_str(), r.query_us, r.colliding);
     for (const FclRow& f : fcl_rows)
         std::printf("| %s | %zu | FCL %s | mean | 1 | %.1f | %.1f | ≥ %.1f | ≥ %.2f | %.1f | | | |\n", f.mesh.c_str(), f.triangles,
                     f.kind.c_str(), f.t.build_ms, f.t.build_ms, double(f.t.bv_bytes) / double(f.triangles),
                     double(f.t.bv_bytes) / double(f.mesh_bytes), f.t.refit_ms);
     std::printf("(method x_f/d: float BVs over the double mesh; build ms: MeshModel construction, validation included, "
                 "median of reps; tree/mesh: tree bytes over the mesh's vertex and index bytes in the mesh's scalar; "
-                "degradation: MeshModel::degradation() after the refit; query: first contact on %d fixed near poses; "
+                "degradation: MeshModel::degradation() after the refit (– for boxtrees: implied boxes have no volume measure here); boxtree: RestrictedBoxtree, its own build, sequential; query: first contact on %d fixed near poses; "
                 "FCL bytes: its BV nodes only)\n", o.poses);
     std::ofstream csv(o.csv);
     csv << "mesh,triangles,library,method,split,leaf,build_ms,build_1thread_ms,tree_bytes,mesh_bytes,refit_ms,degradation,"
            "query_median_us,colliding\n";
     for (const Row& r : rows)
         csv << r.mesh << ',' << r.triangles << ",cdkit," << r.method << ',' << r.split << ',' << r.leaf << ',' << r.build_ms
-            << ',' << r.build_1t_ms << ',' << r.tree_bytes << ',' << r.mesh_bytes << ',' << r.refit_ms << ',' << r.degradation
+            << ',' << r.build_1t_ms << ',' << r.tree_bytes << ',' << r.mesh_bytes << ',' << r.refit_ms << ',' << (r.degradation < 0 ? std::string() : std::to_string(r.degradation))
             << ',' << r.query_us << ',' << r.colliding << '\n';
     for (const FclRow& f : fcl_rows)
         csv << f.mesh << ',' << f.triangles << ",fcl," << f.kind << ",mean,1," << f.t.build_ms << ',' << f.t.build_ms << ','

@@ -1,5 +1,6 @@
 // Bounding volumes: fits contain what they fit, and the overlap test under a relative transform is
 // conservative (never "disjoint" when a point of one box lies in the other) yet culls most far pairs.
+#include "bvh/brute_force_check.hpp"
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
@@ -13,11 +14,7 @@
 using namespace cdkit;
 
 namespace {
-template <class BV> BV fit_all(const TriangleMesh<typename BV::Scalar>& m) {
-    std::vector<Index> all(m.triangles.size());
-    std::iota(all.begin(), all.end(), Index(0));
-    return BV::fit(m, TriangleRange(all));
-}
+using test::fit_all;
 
 // A random point inside `bv` (in its own frame) from three uniform coordinates in [-1, 1].
 template <class S> Vec3<S> point_in(const Aabb<S>& b, const Vec3<S>& u) { return b.center + b.half.cwiseProduct(u); }
@@ -61,7 +58,7 @@ TEMPLATE_PRODUCT_TEST_CASE("BV overlap under a relative transform is conservativ
     using S = typename BV::Scalar;
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> u(-1, 1);
-    int overlaps = 0, disjoint = 0, point_hits = 0;
+    test::OverlapCounts counts;
     const int n = test::scaled(4000, 200);
     for (int i = 0; i < n; ++i) {
         const auto ma = test::random_soup<S>(4, S(0.4), unsigned(2 * i + 1));
@@ -69,22 +66,12 @@ TEMPLATE_PRODUCT_TEST_CASE("BV overlap under a relative transform is conservativ
         const BV a = fit_all<BV>(ma), b = fit_all<BV>(mb);
         Transform<S> b_to_a(test::random_rotation<S>(rng),
                             Vec3<S>(S(1.5 * u(rng)), S(1.5 * u(rng)), S(1.5 * u(rng))));
-        const bool o = overlap(a, b, BV::relative(b_to_a));
-        o ? ++overlaps : ++disjoint;
-        // Any point of b that lands in a proves overlap: the test must agree.
-        for (int k = 0; k < 64; ++k) {
-            const Vec3<S> p = b_to_a * point_in(b, Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng))));
-            if (a.contains(p)) {
-                ++point_hits;
-                REQUIRE(o);
-                break;
-            }
-        }
+        test::record_overlap(a, b, b_to_a, [&](Vec3<S>& p) {
+            p = point_in(b, Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng))));
+            return true;
+        }, counts);
     }
-    // Hit rates: both answers occur often, so the test cannot pass by always answering one way.
-    CHECK(overlaps > n / 10);
-    CHECK(disjoint > n / 10);
-    CHECK(point_hits > n / 20);
+    test::check_hit_rates(counts);
 }
 
 TEST_CASE("AABB and OBB overlap agree with each other on identical boxes", "[bv]") {

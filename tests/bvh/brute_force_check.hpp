@@ -33,26 +33,36 @@ template <class S> Transform<S> near_pose(std::mt19937_64& rng, double reach) {
     return Transform<S>(random_rotation<S>(rng), d.cast<S>());
 }
 
-/// Checks collide() on the two models against brute force over `poses` random poses; returns the number of
-/// colliding poses (the caller checks the hit rate).
-template <class BV, class M>
-int collide_equals_brute_force(const MeshModel<BV, M>& a, const MeshModel<BV, M>& b, int poses, double reach, unsigned seed) {
-    using S = M;
+/// Checks collide() on the two models (MeshModel or RestrictedBoxtree) against brute force over `poses` random
+/// poses: the same triangle pairs in ContactMode::all, and a first contact that is one of them. Returns the
+/// number of colliding poses (the caller checks the hit rate). Culling must do real work: on poses that do not
+/// collide, fewer triangle tests than `max_pair_fraction` of all pairs.
+template <class Model>
+int collide_equals_brute_force(const Model& a, const Model& b, int poses, double reach, unsigned seed,
+                               double max_pair_fraction = 1.0) {
+    using S = typename Model::Scalar;
     std::mt19937_64 rng(seed);
     int hits = 0;
-    CollisionRequest all;
-    all.mode = ContactMode::all;
+    const CollisionRequest all{ContactMode::all};
     for (int i = 0; i < poses; ++i) {
         const Transform<S> pa = near_pose<S>(rng, 0.5), pb = near_pose<S>(rng, reach);
         const auto ref = collide_brute_force(a.mesh(), pa, b.mesh(), pb, all);
         const auto got = collide(a, pa, b, pb, all);
+        REQUIRE(got.status == QueryStatus::ok);
         REQUIRE(got.colliding == ref.colliding);
-        REQUIRE(contact_pairs(got) == contact_pairs(ref));
+        const auto ref_pairs = contact_pairs(ref);
+        REQUIRE(contact_pairs(got) == ref_pairs);
         const auto first = collide(a, pa, b, pb);
         REQUIRE(first.colliding == ref.colliding);
-        if (first.colliding) ++hits;
-        // BV culling must do real work.
-        if (!ref.colliding) CHECK(got.stats.primitive_tests < a.mesh().num_triangles() * b.mesh().num_triangles());
+        if (first.colliding) {
+            REQUIRE(first.contacts.size() == 1);
+            const auto& c = first.contacts[0];
+            REQUIRE(std::binary_search(ref_pairs.begin(), ref_pairs.end(), std::make_pair(c.triangle_a, c.triangle_b)));
+            ++hits;
+        }
+        if (!ref.colliding)
+            CHECK(double(got.stats.primitive_tests) <
+                  max_pair_fraction * double(a.mesh().num_triangles()) * double(b.mesh().num_triangles()));
     }
     return hits;
 }
@@ -85,6 +95,39 @@ template <class BV> BV fit_all(const TriangleMesh<typename BV::Scalar>& m) {
     std::vector<Index> all(m.triangles.size());
     std::iota(all.begin(), all.end(), Index(0));
     return BV::fit(m, TriangleRange(all));
+}
+
+/// Outcomes of record_overlap() over many random configurations.
+struct OverlapCounts {
+    int configurations = 0, overlaps = 0, disjoint = 0, point_hits = 0;
+};
+
+/// A BV overlap test must be conservative: records overlap(a, b, rel) for B at `b_to_a`, then tries `tries`
+/// sample points of b (`sample(p)` fills p in b's frame, or returns false to skip); one that lands in a
+/// proves the volumes overlap, and the test must have said so.
+template <class BV, class S, class Sample>
+void record_overlap(const BV& a, const BV& b, const Transform<S>& b_to_a, Sample&& sample, OverlapCounts& c,
+                    int tries = 64) {
+    const bool o = overlap(a, b, BV::relative(b_to_a));
+    ++c.configurations;
+    o ? ++c.overlaps : ++c.disjoint;
+    for (int k = 0; k < tries; ++k) {
+        Vec3<S> p;
+        if (!sample(p)) continue;
+        if (a.contains(b_to_a * p)) {
+            ++c.point_hits;
+            REQUIRE(o);
+            return;
+        }
+    }
+}
+
+/// Both answers occur often and sample points prove overlaps often: the test cannot pass by always
+/// answering one way.
+inline void check_hit_rates(const OverlapCounts& c) {
+    CHECK(c.overlaps > c.configurations / 10);
+    CHECK(c.disjoint > c.configurations / 10);
+    CHECK(c.point_hits > c.configurations / 20);
 }
 
 }  // namespace cdkit::test

@@ -19,36 +19,6 @@
 using namespace cdkit;
 
 namespace {
-/// Checks collide() on the two boxtrees against brute force over `poses` random poses; returns the number of
-/// colliding poses.
-template <class S>
-int boxtree_equals_brute_force(const RestrictedBoxtree<S>& a, const RestrictedBoxtree<S>& b, int poses, double reach,
-                               unsigned seed) {
-    std::mt19937_64 rng(seed);
-    int hits = 0;
-    const CollisionRequest all{ContactMode::all};
-    for (int i = 0; i < poses; ++i) {
-        const Transform<S> pa = test::near_pose<S>(rng, 0.5), pb = test::near_pose<S>(rng, reach);
-        const auto ref = collide_brute_force(a.mesh(), pa, b.mesh(), pb, all);
-        const auto got = collide(a, pa, b, pb, all);
-        REQUIRE(got.status == QueryStatus::ok);
-        REQUIRE(got.colliding == ref.colliding);
-        REQUIRE(test::contact_pairs(got) == test::contact_pairs(ref));
-        const auto first = collide(a, pa, b, pb);
-        REQUIRE(first.colliding == ref.colliding);
-        if (first.colliding) {
-            REQUIRE(first.contacts.size() == 1);
-            const auto rp = test::contact_pairs(ref);
-            const auto& c = first.contacts[0];
-            REQUIRE(std::binary_search(rp.begin(), rp.end(), std::make_pair(c.triangle_a, c.triangle_b)));
-            ++hits;
-        }
-        // The boxes must cull: far fewer triangle tests than all pairs.
-        if (!ref.colliding) CHECK(got.stats.primitive_tests < a.mesh().num_triangles() * b.mesh().num_triangles() / 4);
-    }
-    return hits;
-}
-
 /// Every vertex of every leaf's triangle inside the leaf's implied box, computed exactly (long double holds
 /// a float and a double's difference from the centre); returns the number of leaves seen.
 template <class S> std::size_t check_leaf_boxes(const RestrictedBoxtree<S>& tree) {
@@ -171,11 +141,11 @@ TEMPLATE_TEST_CASE("Restricted boxtree collide equals brute force on spheres and
         opt.split = extra == 0 ? BoxtreeSplit::median : BoxtreeSplit::implied_sah;
         const RestrictedBoxtree<S> sphere(test::uv_sphere<S>(S(1), 8, 16), opt);
         const int poses = test::scaled(30, 10);
-        int hits = boxtree_equals_brute_force(sphere, sphere, poses, 2.6, 11 + extra);
+        int hits = test::collide_equals_brute_force(sphere, sphere, poses, 2.6, 11 + extra, 0.25);
         CHECK(hits > poses / 5);
         CHECK(hits < poses - poses / 10);
         const RestrictedBoxtree<S> a(test::random_soup<S>(300, S(0.15), 5), opt), b(test::random_soup<S>(200, S(0.2), 6), opt);
-        hits = boxtree_equals_brute_force(a, b, poses, 3.5, 12 + extra);
+        hits = test::collide_equals_brute_force(a, b, poses, 3.5, 12 + extra, 0.25);
         CHECK(hits > poses / 5);
         CHECK(hits < poses - poses / 10);
     }
@@ -185,8 +155,8 @@ TEST_CASE("Restricted boxtree collide equals brute force on the teapot, random a
     const auto teapot = test::unit_scaled(load_mesh(test::data_path("teapot.obj")));
     const RestrictedBoxtree<double> td(teapot);
     const RestrictedBoxtree<float> tf(teapot.cast<float>());
-    const int hits = boxtree_equals_brute_force(td, td, test::scaled(4, 2), 2.0, 13) +
-                     boxtree_equals_brute_force(tf, tf, test::scaled(2, 1), 2.0, 14);
+    const int hits = test::collide_equals_brute_force(td, td, test::scaled(4, 2), 2.0, 13, 0.25) +
+                     test::collide_equals_brute_force(tf, tf, test::scaled(2, 1), 2.0, 14, 0.25);
     CHECK(hits >= 1);
     // Near contact: the translation at which the copies just touch (bisection on an Obb tree), and a hair
     // either side, where the boxes are hardest to get right.
@@ -331,4 +301,50 @@ TEST_CASE("Restricted boxtree collide is thread-safe", "[boxtree][threads]") {
     const RestrictedBoxtree<double> a(test::uv_sphere<double>(1.0, 12, 24));
     const RestrictedBoxtree<double> b(test::random_soup<double>(300, 0.2, 3));
     test::check_concurrent_collide(a, b, 120, 2, 12);
+}
+
+TEMPLATE_TEST_CASE("Restricted boxtree refit: the same mesh gives the built tree, a deformed one stays exact", "[boxtree][refit]",
+                   float, double) {
+    using S = TestType;
+    const auto base = std::make_shared<const TriangleMesh<S>>(test::uv_sphere<S>(S(1), 8, 16));
+    for (std::uint32_t extra : {0u, 1u}) {
+        BoxtreeOptions opt;
+        opt.max_extra_restrictions = extra;
+        RestrictedBoxtree<S> a(base, opt);
+        const RestrictedBoxtree<S> built(base, opt);
+        const auto same_tree = [](const RestrictedBoxtree<S>& x, const RestrictedBoxtree<S>& y) {
+            if (x.root_box() != y.root_box() || x.centre() != y.centre() || x.nodes().size() != y.nodes().size()) return false;
+            for (std::size_t i = 0; i < x.nodes().size(); ++i)
+                if (x.nodes()[i].plane != y.nodes()[i].plane || x.nodes()[i].bits != y.nodes()[i].bits) return false;
+            return true;
+        };
+        // Bend, then collide against a soup: equal to brute force on the refitted tree.
+        const auto bent = std::make_shared<const TriangleMesh<S>>(test::deformed(*base, 0.4));
+        a.refit(bent);
+        CHECK(&a.mesh() == bent.get());
+        REQUIRE_NOTHROW(a.validate());
+        CHECK(check_leaf_boxes(a) == base->num_triangles());
+        CHECK_FALSE(same_tree(a, built));
+        const RestrictedBoxtree<S> soup(test::random_soup<S>(150, S(0.2), 6), opt);
+        const int poses = test::scaled(16, 12);
+        const int hits = test::collide_equals_brute_force(a, soup, poses, 4.0, 31 + extra, 0.25);
+        CHECK(hits > poses / 5);
+        CHECK(hits < poses - poses / 10);
+        // Refitted back onto the original mesh: the built tree, node for node (the build's plane rule).
+        a.refit(std::make_shared<const TriangleMesh<S>>(*base));
+        CHECK(same_tree(a, built));
+        // Bad input leaves the tree as it was.
+        auto other = *base;
+        std::swap(other.triangles[0][0], other.triangles[0][1]);
+        REQUIRE_THROWS_WITH(a.refit(std::make_shared<const TriangleMesh<S>>(other)), Catch::Contains("topology changed"));
+        auto nan = *base;
+        nan.source = "nan.obj";
+        nan.vertices[3].x() = std::numeric_limits<S>::quiet_NaN();
+        REQUIRE_THROWS_WITH(a.refit(std::make_shared<const TriangleMesh<S>>(nan)), Catch::Contains("nan.obj"));
+        auto fewer = *base;
+        fewer.vertices.push_back(Vec3<S>::Zero());
+        REQUIRE_THROWS_WITH(a.refit(std::make_shared<const TriangleMesh<S>>(fewer)), Catch::Contains("vertex count"));
+        REQUIRE_THROWS_AS(a.refit(nullptr), Error);
+        CHECK(same_tree(a, built));
+    }
 }

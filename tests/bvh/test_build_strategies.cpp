@@ -1,4 +1,4 @@
-// Build strategies (binned SAH, PCA + volume sweep): trees keep their invariants for every BV, collide()
+// Build strategies (binned SAH, PCA + volume sweep): degenerate input stays balanced, collide()
 // on them equals brute force, and SAH lowers the summed box area it optimises.
 #include "brute_force_check.hpp"
 
@@ -11,22 +11,11 @@
 
 using namespace cdkit;
 
-TEMPLATE_TEST_CASE("SAH and PCA-volume builds keep the invariants", "[bvh][build]", Aabb<float>, Aabb<double>,
+TEMPLATE_TEST_CASE("SAH and PCA-volume builds of degenerate input stay balanced", "[bvh][build]", Aabb<float>, Aabb<double>,
                    Obb<double>, (Kdop<double, 14>), BoundingSphere<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
-    for (SplitStrategy split : {SplitStrategy::sah, SplitStrategy::pca_volume})
-        for (std::uint32_t leaf : {1u, 4u}) {
-            BuildOptions opt;
-            opt.split = split;
-            opt.max_leaf_triangles = leaf;
-            const MeshModel<BV> sphere(test::uv_sphere<S>(S(1), 12, 24), opt);
-            REQUIRE_NOTHROW(sphere.validate());
-            const auto st = sphere.bvh().stats();
-            CHECK(st.nodes == 2 * st.leaves - 1);
-            const MeshModel<BV> soup(test::random_soup<S>(300, S(0.1), 9), opt);
-            REQUIRE_NOTHROW(soup.validate());
-        }
+    // (The invariants on regular meshes for every strategy: tests/bvh/test_bvh.cpp.)
     // Degenerate: every triangle at one point.
     TriangleMesh<S> m;
     m.vertices = {Vec3<S>(S(1), S(1), S(1))};

@@ -4,7 +4,9 @@
 #include "test_common.hpp"
 
 #include "cdkit/bv/aabb.hpp"
+#include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
+#include "cdkit/bv/sphere.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 
 #include <catch2/catch.hpp>
@@ -13,10 +15,11 @@
 
 using namespace cdkit;
 
-TEMPLATE_PRODUCT_TEST_CASE("BVH build keeps its invariants", "[bvh]", (cdkit::Aabb, cdkit::Obb), (float, double)) {
+TEMPLATE_TEST_CASE("BVH build keeps its invariants with every split strategy", "[bvh][build]", Aabb<float>, Aabb<double>,
+                   Obb<float>, Obb<double>, (Kdop<double, 14>), BoundingSphere<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
-    for (SplitStrategy split : {SplitStrategy::median, SplitStrategy::mean})
+    for (SplitStrategy split : {SplitStrategy::median, SplitStrategy::mean, SplitStrategy::sah, SplitStrategy::pca_volume})
         for (std::uint32_t leaf : {1u, 4u}) {
             BuildOptions opt;
             opt.split = split;

@@ -46,27 +46,19 @@ TEMPLATE_TEST_CASE("sphere overlap under a relative transform is conservative an
     using S = TestType;
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> u(-1, 1);
-    int overlaps = 0, disjoint = 0, point_hits = 0;
+    test::OverlapCounts counts;
     const int n = test::scaled(3000, 200);
     for (int i = 0; i < n; ++i) {
         const auto a = test::fit_all<BoundingSphere<S>>(test::random_soup<S>(4, S(0.4), unsigned(2 * i + 1)));
         const auto b = test::fit_all<BoundingSphere<S>>(test::random_soup<S>(4, S(0.4), unsigned(2 * i + 2)));
         const Transform<S> b_to_a(test::random_rotation<S>(rng), Vec3<S>(S(2 * u(rng)), S(2 * u(rng)), S(2 * u(rng))));
-        const bool o = overlap(a, b, BoundingSphere<S>::relative(b_to_a));
-        o ? ++overlaps : ++disjoint;
-        for (int k = 0; k < 64; ++k) {
-            Vec3<S> d(S(u(rng)), S(u(rng)), S(u(rng)));
-            if (d.norm() > S(1)) continue;
-            if (a.contains(b_to_a * (b.center + b.radius * d))) {
-                ++point_hits;
-                REQUIRE(o);
-                break;
-            }
-        }
+        test::record_overlap(a, b, b_to_a, [&](Vec3<S>& p) {
+            const Vec3<S> d(S(u(rng)), S(u(rng)), S(u(rng)));
+            p = b.center + b.radius * d;
+            return d.norm() <= S(1);
+        }, counts);
     }
-    CHECK(overlaps > n / 10);
-    CHECK(disjoint > n / 10);
-    CHECK(point_hits > n / 20);
+    test::check_hit_rates(counts);
 }
 
 TEMPLATE_TEST_CASE("collide on sphere trees equals brute force", "[collide][sphere]", float, double) {

@@ -3,16 +3,14 @@
 // do_intersect has the precondition that neither triangle is degenerate, so the oracle reduces a
 // zero-area triangle (decided exactly by CGAL) to the segment between its farthest vertices, or a point,
 // and uses CGAL's segment/point predicates for those.
+#include "oracles/cgal_simplex.hpp"
 #include "test_common.hpp"
 #include "triangle_cases.hpp"
 
 #include "cdkit/core/predicates.hpp"
 #include "cdkit/narrowphase/triangle.hpp"
 
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/intersections.h>
-#include <CGAL/squared_distance_3.h>
 
 #include <catch2/catch.hpp>
 
@@ -28,47 +26,12 @@ namespace tri = cdkit::test::tri;
 
 namespace {
 
-using EK = CGAL::Exact_predicates_exact_constructions_kernel;
+namespace cgal = cdkit::test::cgal;
+using cgal::EK;
+using cgal::Simplex;
+using cgal::simplex;
 using IK = CGAL::Exact_predicates_inexact_constructions_kernel;  // exact predicates, fast on doubles
-
-template <class S> EK::Point_3 ep(const Vec3<S>& v) { return {double(v.x()), double(v.y()), double(v.z())}; }
 IK::Point_3 ip(const detail::Point3d& p) { return {p.x, p.y, p.z}; }
-
-/// A triangle as CGAL sees it after exact degeneracy checks: dim 2 triangle, 1 segment (a, b), 0 point a.
-struct Simplex {
-    int dim = 2;
-    EK::Point_3 a, b, c;
-};
-template <class S> Simplex simplex(const std::array<Vec3<S>, 3>& t) {
-    const EK::Point_3 a = ep(t[0]), b = ep(t[1]), c = ep(t[2]);
-    if (!CGAL::collinear(a, b, c)) return {2, a, b, c};
-    if (a == b && b == c) return {0, a, a, a};
-    const auto ab = CGAL::squared_distance(a, b), bc = CGAL::squared_distance(b, c), ca = CGAL::squared_distance(c, a);
-    if (ab >= bc && ab >= ca) return {1, a, b, a};
-    if (bc >= ca) return {1, b, c, b};
-    return {1, c, a, c};
-}
-
-bool oracle(const Simplex& s, const Simplex& t) {
-    if (s.dim < t.dim) return oracle(t, s);
-    const EK::Triangle_3 ts(s.a, s.b, s.c);
-    const EK::Segment_3 ss(s.a, s.b), st(t.a, t.b);
-    switch (s.dim * 3 + t.dim) {
-    case 8: return CGAL::do_intersect(ts, EK::Triangle_3(t.a, t.b, t.c));
-    case 7: return CGAL::do_intersect(st, ts);
-    case 6: return CGAL::do_intersect(t.a, ts);
-    case 4: return CGAL::do_intersect(ss, st);
-    case 3: return ss.has_on(t.a);
-    default: return s.a == t.a;
-    }
-}
-
-/// Exact squared distance from x to the simplex.
-EK::FT dist2(const EK::Point_3& x, const Simplex& s) {
-    if (s.dim == 2) return CGAL::squared_distance(x, EK::Triangle_3(s.a, s.b, s.c));
-    if (s.dim == 1) return CGAL::squared_distance(x, EK::Segment_3(s.a, s.b));
-    return CGAL::squared_distance(x, s.a);
-}
 
 int cgal_orient3d(const detail::Point3d& a, const detail::Point3d& b, const detail::Point3d& c, const detail::Point3d& d) {
     // CGAL's orientation(p,q,r,s) is the sign of det[q−p, r−p, s−p]: the opposite of Shewchuk's orient3d.
@@ -270,7 +233,7 @@ TEMPLATE_TEST_CASE("triangles_intersect equals CGAL's exact do_intersect", "[tri
             const auto x = tri::as<S>(tri::generate(kind, rng));
             const Simplex sp = simplex(x.p), sq = simplex(x.q);
             degenerate += sp.dim < 2 || sq.dim < 2;
-            const bool expected = oracle(sp, sq);
+            const bool expected = cgal::intersect(sp, sq);
             const bool got = triangles_intersect(x.p[0], x.p[1], x.p[2], x.q[0], x.q[1], x.q[2]);
             if (got != expected) {
                 INFO(tri::name(kind) << " case " << i);
@@ -315,8 +278,8 @@ TEMPLATE_TEST_CASE("triangle_intersection: witness points against CGAL's exact i
             INFO(tri::name(kind) << " case " << i);
             // 1. Both points lie on both triangles (exact distances).
             for (const Vec3<S>& w : {r.a, r.b}) {
-                const EK::Point_3 e = ep(w);
-                const double d = std::sqrt(CGAL::to_double(CGAL::exact(std::max(dist2(e, sp), dist2(e, sq)))));
+                const EK::Point_3 e = cgal::exact_point(w);
+                const double d = std::sqrt(CGAL::to_double(CGAL::exact(std::max(cgal::squared_distance(e, sp), cgal::squared_distance(e, sq)))));
                 worst_dist = std::max(worst_dist, d / M);
             }
             if (sp.dim < 2 || sq.dim < 2) {
@@ -500,7 +463,7 @@ TEST_CASE("triangles_intersect equals CGAL with subnormal and huge coordinates",
                 for (auto* t : {&x.p, &x.q})
                     for (auto& v : *t) v = Vec3<S>(std::ldexp(v.x(), e), std::ldexp(v.y(), e), std::ldexp(v.z(), e));
             }
-            const bool expected = oracle(simplex(x.p), simplex(x.q));
+            const bool expected = cgal::intersect(simplex(x.p), simplex(x.q));
             const bool got = triangles_intersect(x.p[0], x.p[1], x.p[2], x.q[0], x.q[1], x.q[2]);
             if (got != expected) {
                 INFO(tri::name(kind) << " case " << i << " mode " << mode);

@@ -27,6 +27,9 @@ template <class S> struct Aabb {
     [[nodiscard]] Vec3<S> min() const noexcept { return center - half; }
     [[nodiscard]] Vec3<S> max() const noexcept { return center + half; }
     [[nodiscard]] S volume() const noexcept { return is_empty() ? S(0) : S(8) * half.prod(); }
+    [[nodiscard]] S surface_area() const noexcept {
+        return is_empty() ? S(0) : S(8) * (half.x() * half.y() + half.y() * half.z() + half.z() * half.x());
+    }
     /// Used by the traversal to decide which tree to descend: the larger box.
     [[nodiscard]] S size() const noexcept { return half.x() + half.y() + half.z(); }
     /// The direction a top-down build splits along: the longest axis.

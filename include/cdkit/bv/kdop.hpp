@@ -148,6 +148,12 @@ template <class S, int K> struct Kdop {
     [[nodiscard]] S volume() const noexcept {
         return is_empty() ? S(0) : (h[0] + h[N]) * (h[1] + h[N + 1]) * (h[2] + h[N + 2]);
     }
+    /// The surface area of the same axis-aligned box (the proxy of volume()).
+    [[nodiscard]] S surface_area() const noexcept {
+        if (is_empty()) return S(0);
+        const S x = h[0] + h[N], y = h[1] + h[N + 1], z = h[2] + h[N + 2];
+        return S(2) * (x * y + y * z + z * x);
+    }
     /// Used by the traversal to decide which tree to descend: the sum of the axis half extents, as for Aabb.
     [[nodiscard]] S size() const noexcept { return S(0.5) * (h[0] + h[N] + h[1] + h[N + 1] + h[2] + h[N + 2]); }
     /// The unit normal of the widest slab (widths measured along the normalised directions).

@@ -26,6 +26,9 @@ template <class S> struct Obb {
         return axes.allFinite() && center.allFinite() && half.allFinite() && (half.array() >= S(0)).all();
     }
     [[nodiscard]] S volume() const noexcept { return is_empty() ? S(0) : S(8) * half.prod(); }
+    [[nodiscard]] S surface_area() const noexcept {
+        return is_empty() ? S(0) : S(8) * (half.x() * half.y() + half.y() * half.z() + half.z() * half.x());
+    }
     [[nodiscard]] S size() const noexcept { return half.x() + half.y() + half.z(); }
     [[nodiscard]] Vec3<S> split_axis() const noexcept {
         int k;

@@ -90,6 +90,7 @@ template <class S> struct BoundingSphere {
     [[nodiscard]] S volume() const noexcept {
         return is_empty() ? S(0) : S(4.18879020478639098462) * radius * radius * radius;  // 4π/3 r³
     }
+    [[nodiscard]] S surface_area() const noexcept { return is_empty() ? S(0) : S(12.5663706143591729539) * radius * radius; }
     /// Used by the traversal to decide which tree to descend.
     [[nodiscard]] S size() const noexcept { return radius; }
     // No split_axis(): a ball has no preferred direction, so build_bvh splits along the widest extent of the

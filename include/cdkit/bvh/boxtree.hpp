@@ -182,6 +182,15 @@ public:
     /// triangle inside the leaf's implied box (exactly, in long double). O(n).
     void validate() const;
 
+    /// Deformation: takes `moved`, the same mesh with moved vertices (same vertex count, same triangles in the
+    /// same order), and refits the tree to it in O(n). The topology (each node's triangles, axis and side)
+    /// stays and every plane is recomputed from its node's triangles exactly as the build computes it, so a
+    /// refit onto the mesh the tree was built on gives the built tree again, node for node; after a
+    /// deformation the boxes are tight on the chosen faces but the split no longer follows the shape.
+    /// Throws cdkit::Error naming moved->source when the topology differs, a vertex is not finite or the
+    /// extent no longer fits float planes; the tree is unchanged then. Not thread-safe against queries on it.
+    void refit(std::shared_ptr<const TriangleMesh<S>> moved);
+
 private:
     static std::shared_ptr<const TriangleMesh<S>> checked(std::shared_ptr<const TriangleMesh<S>> m) {
         if (!m) throw Error("<mesh>", "", "null mesh");
@@ -189,6 +198,65 @@ private:
         return m;
     }
     void build();
+
+    /// A triangle's vertices' box in the local frame (double) and the magnitude its padding covers: the
+    /// model coordinates (queries transform those) and the local ones (the box tests work in those).
+    struct TriBox {
+        std::array<double, 6> box = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        double magnitude = 0;
+        void add(const TriBox& o) noexcept {
+            for (int k = 0; k < 3; ++k) box[k] = std::min(box[k], o.box[k]), box[k + 3] = std::max(box[k + 3], o.box[k + 3]);
+            magnitude = std::max(magnitude, o.magnitude);
+        }
+    };
+    /// The centre of the mesh's bounding box: the local frame's origin.
+    [[nodiscard]] static Vec3<S> box_centre(const TriangleMesh<S>& mesh) noexcept {
+        Vec3<S> lo = Vec3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
+        for (const Triangle& t : mesh.triangles)
+            for (Index v : t) lo = lo.cwiseMin(mesh.vertices[v]), hi = hi.cwiseMax(mesh.vertices[v]);
+        return lo * S(0.5) + hi * S(0.5);
+    }
+    /// Every triangle's TriBox in the local frame around `centre`; the centroids (local) too when asked.
+    [[nodiscard]] static std::vector<TriBox> triangle_boxes(const TriangleMesh<S>& mesh, const Vec3<S>& centre,
+                                                            std::vector<Vec3<double>>* centroids = nullptr) {
+        const std::size_t n = mesh.triangles.size();
+        std::vector<TriBox> tri(n);
+        if (centroids) centroids->assign(n, Vec3<double>::Zero());
+        const Vec3<double> c = centre.template cast<double>();
+        for (std::size_t i = 0; i < n; ++i)
+            for (Index v : mesh.triangles[i]) {
+                const Vec3<double> p = mesh.vertices[v].template cast<double>();
+                const Vec3<double> l = p - c;
+                if (centroids) (*centroids)[i] += l / 3.0;
+                TriBox& tb = tri[i];
+                for (int k = 0; k < 3; ++k) tb.box[k] = std::min(tb.box[k], l[k]), tb.box[k + 3] = std::max(tb.box[k + 3], l[k]);
+                tb.magnitude = std::max({tb.magnitude, p.cwiseAbs().maxCoeff(), l.cwiseAbs().maxCoeff()});
+            }
+        return tri;
+    }
+    /// A TriBox padded (fit_padding's rule in S, plus the local coordinates' own rounding) and rounded
+    /// outwards to float.
+    [[nodiscard]] static FloatBox padded(const TriBox& b) noexcept {
+        const double eps = double(std::numeric_limits<S>::epsilon());
+        const double pad = double(detail::fit_padding(S(b.magnitude))) + 4 * eps * b.magnitude;
+        FloatBox f;
+        for (int k = 0; k < 3; ++k)
+            f[k] = detail::boxtree_round_down(b.box[k] - pad), f[k + 3] = detail::boxtree_round_up(b.box[k + 3] + pad);
+        return f;
+    }
+    /// The root box from the whole mesh's TriBox; throws when it does not fit float planes.
+    [[nodiscard]] static FloatBox root_box_of(const TriangleMesh<S>& mesh, const TriBox& all) {
+        const FloatBox f = padded(all);
+        for (float x : f)
+            if (!std::isfinite(x)) throw Error(mesh.source, "", "restricted boxtree: the mesh's extent does not fit float planes");
+        return f;
+    }
+    /// `tight` clipped to `parent` on every face: both hold the triangles, so their intersection does too,
+    /// and a child's box never grows past its parent's.
+    [[nodiscard]] static FloatBox clipped(FloatBox tight, const FloatBox& parent) noexcept {
+        for (int k = 0; k < 3; ++k) tight[k] = std::max(tight[k], parent[k]), tight[k + 3] = std::min(tight[k + 3], parent[k + 3]);
+        return tight;
+    }
 
     std::shared_ptr<const TriangleMesh<S>> mesh_;
     BoxtreeOptions options_;
@@ -207,52 +275,23 @@ template <class S> void RestrictedBoxtree<S>::build() {
     if (n > std::size_t(Node::max_index) / per_triangle)
         throw Error(mesh.source, "", "restricted boxtree: " + std::to_string(n) +
                                          " triangles exceed the 27-bit node index (with these options)");
-    Vec3<S> lo = Vec3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
-    for (const Triangle& t : mesh.triangles)
-        for (Index v : t) lo = lo.cwiseMin(mesh.vertices[v]), hi = hi.cwiseMax(mesh.vertices[v]);
-    centre_ = (lo * S(0.5) + hi * S(0.5));
-
-    // Per triangle: its vertices' box in the local frame (double) and the magnitude its padding covers:
-    // the model coordinates (queries transform those) and the local ones (the box tests work in those).
-    struct TriBox { std::array<double, 6> box; double magnitude; };
-    std::vector<TriBox> tri(n);
-    std::vector<Vec3<double>> centroid(n);
-    const Vec3<double> c = centre_.template cast<double>();
-    for (std::size_t i = 0; i < n; ++i) {
-        TriBox& tb = tri[i];
-        tb.box = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        tb.magnitude = 0;
-        centroid[i].setZero();
-        for (Index v : mesh.triangles[i]) {
-            const Vec3<double> p = mesh.vertices[v].template cast<double>();
-            const Vec3<double> l = p - c;
-            centroid[i] += l / 3.0;
-            for (int k = 0; k < 3; ++k) tb.box[k] = std::min(tb.box[k], l[k]), tb.box[k + 3] = std::max(tb.box[k + 3], l[k]);
-            tb.magnitude = std::max({tb.magnitude, p.cwiseAbs().maxCoeff(), l.cwiseAbs().maxCoeff()});
-        }
-    }
+    centre_ = box_centre(mesh);
+    std::vector<Vec3<double>> centroid;
+    const std::vector<TriBox> tri = triangle_boxes(mesh, centre_, &centroid);
     // The padded box of triangles [first, last), rounded outwards to float.
-    const double eps = double(std::numeric_limits<S>::epsilon());
     auto fit = [&](const Index* first, const Index* last) {
-        std::array<double, 6> b = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        double magnitude = 0;
-        for (const Index* p = first; p != last; ++p) {
-            for (int k = 0; k < 3; ++k) b[k] = std::min(b[k], tri[*p].box[k]), b[k + 3] = std::max(b[k + 3], tri[*p].box[k + 3]);
-            magnitude = std::max(magnitude, tri[*p].magnitude);
-        }
-        // fit_padding's rule in S, plus a term for the local coordinates' own rounding (p − c in S).
-        const double pad = double(detail::fit_padding(S(magnitude))) + 4 * eps * magnitude;
-        FloatBox f;
-        for (int k = 0; k < 3; ++k) f[k] = detail::boxtree_round_down(b[k] - pad), f[k + 3] = detail::boxtree_round_up(b[k + 3] + pad);
-        return f;
+        TriBox b;
+        for (const Index* p = first; p != last; ++p) b.add(tri[*p]);
+        return padded(b);
     };
 
     std::vector<Index> order(n);
     std::iota(order.begin(), order.end(), Index(0));
-    root_box_ = fit(order.data(), order.data() + n);
-    for (float x : root_box_)
-        if (!std::isfinite(x))
-            throw Error(mesh.source, "", "restricted boxtree: the mesh's extent does not fit float planes");
+    {
+        TriBox all;
+        for (const TriBox& t : tri) all.add(t);
+        root_box_ = root_box_of(mesh, all);
+    }
 
     nodes_.clear();
     nodes_.reserve(2 * n);
@@ -344,9 +383,7 @@ template <class S> void RestrictedBoxtree<S>::build() {
         stack.pop_back();
         Index* first = order.data() + w.begin;
         Index* last = order.data() + w.end;
-        FloatBox tight = fit(first, last);
-        // Both boxes hold the triangles, so their intersection does too; it never grows past the parent.
-        for (int k = 0; k < 3; ++k) tight[k] = std::max(tight[k], w.parent[k]), tight[k + 3] = std::min(tight[k + 3], w.parent[k + 3]);
+        const FloatBox tight = clipped(fit(first, last), w.parent);
         std::uint32_t cur = w.node, level = w.level;
         FloatBox box = w.parent;
         if (cur != 0) {  // the root's box is the fit itself
@@ -390,6 +427,52 @@ template <class S> void RestrictedBoxtree<S>::build() {
         stack.push_back({children + 1, split, w.end, level + 1, box});
         stack.push_back({children, w.begin, split, level + 1, box});
     }
+}
+
+template <class S> void RestrictedBoxtree<S>::refit(std::shared_ptr<const TriangleMesh<S>> moved) {
+    if (!moved) throw Error("<mesh>", "", "refit: null mesh");
+    const TriangleMesh<S>& mesh = *moved;
+    if (mesh.vertices.size() != mesh_->vertices.size())
+        throw Error(mesh.source, "", "refit: vertex count " + std::to_string(mesh.vertices.size()) +
+                                         " differs from the tree's " + std::to_string(mesh_->vertices.size()));
+    if (mesh.triangles.size() != mesh_->triangles.size())
+        throw Error(mesh.source, "", "refit: triangle count differs from the tree's");
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+        if (mesh.triangles[i] != mesh_->triangles[i])
+            throw Error(mesh.source, "triangle " + std::to_string(i), "refit: differs from the tree's (topology changed)");
+    cdkit::validate(mesh);
+
+    const Vec3<S> centre = box_centre(mesh);
+    const std::vector<TriBox> tri = triangle_boxes(mesh, centre);
+    // Each node's triangles' box, bottom-up: children follow their parent in the array.
+    std::vector<TriBox> tight(nodes_.size());
+    for (std::size_t i = nodes_.size(); i-- > 0;) {
+        const Node& n = nodes_[i];
+        if (n.kind() == Node::Kind::leaf) tight[i] = tri[n.index()];
+        else if (n.kind() == Node::Kind::one_child) tight[i] = tight[n.index()];
+        else tight[i] = tight[n.index()], tight[i].add(tight[n.index() + 1]);
+    }
+    const FloatBox root = root_box_of(mesh, tight[0]);
+    // Top-down: each restricted face moves to its node's padded tight box, clipped to the parent's implied box
+    // (the build's rule, so the same mesh gives the same planes).
+    std::vector<Node> nodes = nodes_;
+    std::vector<FloatBox> parent_box(nodes.size());
+    parent_box[0] = root;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        Node& n = nodes[i];
+        if (i != 0 && n.axis() != Node::no_axis) {
+            const FloatBox t = clipped(padded(tight[i]), parent_box[i]);
+            const std::uint32_t k = n.axis();
+            n.set_restriction(k, n.upper(), n.upper() ? t[k + 3] : t[k]);
+        }
+        const FloatBox box = detail::restrict_box(parent_box[i], n);
+        if (n.kind() == Node::Kind::one_child) parent_box[n.index()] = box;
+        else if (n.kind() == Node::Kind::two_children) parent_box[n.index()] = parent_box[n.index() + 1] = box;
+    }
+    nodes_ = std::move(nodes);
+    root_box_ = root;
+    centre_ = centre;
+    mesh_ = std::move(moved);
 }
 
 template <class S> void RestrictedBoxtree<S>::validate() const {

@@ -52,33 +52,31 @@ template <class S> struct BoxtreeRelative {
         return t_in_b[j] + R(0, j) * S(a[slot[0]]) + R(1, j) * S(a[slot[1]]) + R(2, j) * S(a[slot[2]]);
     }
 
-    /// One step down tree A: moves A's face (node's axis and side) to node's plane in `a` and returns false
-    /// when a face axis of either box then separates `a` from `b`.
-    [[nodiscard]] bool step_a(const BoxtreeNode& node, FloatBox& a, const FloatBox& b) const noexcept {
+    /// One step down tree A (InA) or B: moves that tree's face (node's axis and side) to node's plane in `box`
+    /// and returns false when a face axis of either box then separates `box` from `other`, the other tree's
+    /// current box.
+    template <bool InA>
+    [[nodiscard]] bool step(const BoxtreeNode& node, FloatBox& box, const FloatBox& other) const noexcept {
         const std::uint32_t k = node.axis();
         if (k == BoxtreeNode::no_axis) return true;
         const bool up = node.upper();
         const S plane = S(node.plane);
-        bool apart = up ? plane + slack < along_a(b, k, lo_in_a[k]) : plane - slack > along_a(b, k, hi_in_a[k]);
-        a[up ? k + 3 : k] = node.plane;
+        // Coordinates along this tree's axes of the other box's corners, and along the other tree's axes of
+        // this box's corners.
+        const auto along_own = [&](std::uint32_t i, const auto& slot) { return InA ? along_a(other, i, slot) : along_b(other, i, slot); };
+        const auto along_other = [&](std::uint32_t i, const auto& slot) { return InA ? along_b(box, i, slot) : along_a(box, i, slot); };
+        const Slots& lo_own = InA ? lo_in_a : lo_in_b;
+        const Slots& hi_own = InA ? hi_in_a : hi_in_b;
+        const Slots& lo_other = InA ? lo_in_b : lo_in_a;
+        const Slots& hi_other = InA ? hi_in_b : hi_in_a;
+        bool apart = up ? plane + slack < along_own(k, lo_own[k]) : plane - slack > along_own(k, hi_own[k]);
+        box[up ? k + 3 : k] = node.plane;
         // No early exit: the four outcomes are hard to predict, and a mispredicted branch costs more than
         // the projections it would skip.
-        const auto& moves_lo = moves_lo_in_b[2 * k + up];
+        const auto& moves_lo = (InA ? moves_lo_in_b : moves_lo_in_a)[2 * k + up];
         for (std::uint32_t j = 0; j < 3; ++j)
-            apart |= moves_lo[j] ? along_b(a, j, lo_in_b[j]) - slack > S(b[j + 3]) : along_b(a, j, hi_in_b[j]) + slack < S(b[j]);
-        return !apart;
-    }
-    /// The same step down tree B.
-    [[nodiscard]] bool step_b(const BoxtreeNode& node, const FloatBox& a, FloatBox& b) const noexcept {
-        const std::uint32_t j = node.axis();
-        if (j == BoxtreeNode::no_axis) return true;
-        const bool up = node.upper();
-        const S plane = S(node.plane);
-        bool apart = up ? plane + slack < along_b(a, j, lo_in_b[j]) : plane - slack > along_b(a, j, hi_in_b[j]);
-        b[up ? j + 3 : j] = node.plane;
-        const auto& moves_lo = moves_lo_in_a[2 * j + up];
-        for (std::uint32_t k = 0; k < 3; ++k)
-            apart |= moves_lo[k] ? along_a(b, k, lo_in_a[k]) - slack > S(a[k + 3]) : along_a(b, k, hi_in_a[k]) + slack < S(a[k]);
+            apart |= moves_lo[j] ? along_other(j, lo_other[j]) - slack > S(other[j + 3])
+                                 : along_other(j, hi_other[j]) + slack < S(other[j]);
         return !apart;
     }
 
@@ -216,12 +214,12 @@ template <class S>
             bool ok0, ok1 = false;
             if (descend_a) {
                 q0.a = first, q1.a = first + 1;
-                ok0 = rel.step_a(na[first], q0.box_a, q0.box_b);
-                if (two) ok1 = rel.step_a(na[first + 1], q1.box_a, q1.box_b);
+                ok0 = rel.template step<true>(na[first], q0.box_a, q0.box_b);
+                if (two) ok1 = rel.template step<true>(na[first + 1], q1.box_a, q1.box_b);
             } else {
                 q0.b = first, q1.b = first + 1;
-                ok0 = rel.step_b(nb[first], q0.box_a, q0.box_b);
-                if (two) ok1 = rel.step_b(nb[first + 1], q1.box_a, q1.box_b);
+                ok0 = rel.template step<false>(nb[first], q0.box_b, q0.box_a);
+                if (two) ok1 = rel.template step<false>(nb[first + 1], q1.box_b, q1.box_a);
             }
             out.stats.bv_tests += 1 + two;
             if (ok0) {

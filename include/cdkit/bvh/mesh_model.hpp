@@ -23,7 +23,7 @@ public:
     /// Validates the mesh (throws cdkit::Error naming mesh->source on bad data) and builds the tree.
     explicit MeshModel(std::shared_ptr<const TriangleMesh<Scalar>> mesh, const BuildOptions& options = {})
         : mesh_(checked(std::move(mesh))), bvh_(build_bvh<BV>(*mesh_, options)), options_(options),
-          built_ratio_(volume_ratio(bvh_, *mesh_)) {}
+          built_ratio_(surface_ratio(bvh_, *mesh_)) {}
     explicit MeshModel(TriangleMesh<Scalar> mesh, const BuildOptions& options = {})
         : MeshModel(std::make_shared<const TriangleMesh<Scalar>>(std::move(mesh)), options) {}
 
@@ -56,12 +56,12 @@ public:
     /// Rebuilds the tree from scratch on the current mesh (with the options it was built with).
     void rebuild() {
         bvh_ = build_bvh<BV>(*mesh_, options_);
-        built_ratio_ = volume_ratio(bvh_, *mesh_);
+        built_ratio_ = surface_ratio(bvh_, *mesh_);
     }
-    /// How much refits have loosened the tree: volume_ratio() now over volume_ratio() after the last build
+    /// How much refits have loosened the tree: surface_ratio() now over surface_ratio() after the last build
     /// (1 right after a build; scale invariant). O(n) plus one fit of the whole mesh.
     [[nodiscard]] double degradation() const {
-        return built_ratio_ > 0 ? volume_ratio(bvh_, *mesh_) / built_ratio_ : 1.0;
+        return built_ratio_ > 0 ? surface_ratio(bvh_, *mesh_) / built_ratio_ : 1.0;
     }
     /// True when degradation() exceeds `threshold`: the refitted tree's volumes then overlap so much more than
     /// a fresh tree's that a rebuild (O(n log n)) is likely to pay off within a few queries.
