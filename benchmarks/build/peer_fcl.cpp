@@ -1,5 +1,7 @@
 #include "peer_fcl.hpp"
 
+#include "../thread_cpu_clock.hpp"
+
 #include <fcl/math/bv/utility.h>
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/AABB.h>
@@ -16,9 +18,8 @@
 namespace cdbuild {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using Clock = cdbench::ThreadCpuClock;  // FCL builds on one thread
+double ms_since(Clock::time_point t0) { return cdbench::ms_since<Clock>(t0); }
 
 std::vector<fcl::Vector3d> points(const cdkit::TriangleMesh<double>& m) {
     std::vector<fcl::Vector3d> p;
