@@ -314,10 +314,11 @@ void run_all(const Options& opt, Report& report) {
     report.reference = cd_names.front();
     report.peer = fcl_method_names().front();
     cdkit::BuildOptions build;
-    if (opt.split == "mean") build.split = cdkit::SplitStrategy::mean;
+    if (opt.split == "median") build.split = cdkit::SplitStrategy::median;
+    else if (opt.split == "mean") build.split = cdkit::SplitStrategy::mean;
     else if (opt.split == "sah") build.split = cdkit::SplitStrategy::sah;
     else if (opt.split == "pca_volume") build.split = cdkit::SplitStrategy::pca_volume;
-    else if (opt.split != "median") throw std::runtime_error("--split must be median, mean, sah or pca_volume");
+    else throw std::runtime_error("--split must be median, mean, sah or pca_volume");
     auto want = [&](const std::string& n) { return wanted(opt, report.reference, n); };
 
     for (const std::string& path : opt.meshes) {

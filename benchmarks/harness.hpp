@@ -24,7 +24,7 @@ struct Options {
     double min_batch_us = 50;      ///< a pose's timed batch repeats the query until it lasts this long
     std::size_t batches = 1;       ///< timed batches per pose; the sample is the fastest (filters preemption)
     std::uint64_t seed = 1;
-    std::string split = "median";  ///< cdkit build: median | mean
+    std::string split = "sah";  ///< cdkit build: median | mean | sah | pca_volume (the library default: sah)
     std::string out_dir = "build/report";
     bool quiet = false;
 };

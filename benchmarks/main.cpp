@@ -58,7 +58,7 @@ Times cdkit's mesh-mesh collision queries against FCL's, in one process on ident
   --batches B         timed batches per pose, the fastest kept (default 1; 3 filters preemption
                       on a busy machine; roughly doubles the run time)
   --seed S            P2's random rotations and directions (default 1)
-  --split median|mean|sah|pca_volume  cdkit tree build split (default median; FCL splits at the mean)
+  --split median|mean|sah|pca_volume  cdkit tree build split (default sah, the library's; FCL splits at the mean)
   --out DIR           output directory for results.{csv,json}, builds.csv, correctness.csv,
                       disagreements.csv (default build/report)
   --quiet             no progress on stderr

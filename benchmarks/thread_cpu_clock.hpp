@@ -22,6 +22,11 @@ struct ThreadCpuClock {
     }
 };
 
+/// The calling thread's CPU time in seconds, for code that wants a plain number.
+[[nodiscard]] inline double thread_cpu_seconds() noexcept {
+    return std::chrono::duration<double>(ThreadCpuClock::now().time_since_epoch()).count();
+}
+
 /// Milliseconds of `Clock` since t0.
 template <class Clock> [[nodiscard]] double ms_since(typename Clock::time_point t0) noexcept {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

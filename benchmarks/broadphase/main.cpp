@@ -8,10 +8,12 @@
 //   default N in {1000, 10000}; --full adds N = 100000. --skip leaves a method out (repeatable), e.g.
 //   --skip fcl_sap for a lone --n 100000 run, where nothing tells the budget rule that FCL's SaP takes
 //   minutes per frame.
+#include "../thread_cpu_clock.hpp"
 #include "bench_broadphase.hpp"
 
 #include "cdkit/broadphase/brute_force.hpp"
 #include "cdkit/broadphase/dynamic_aabb_tree.hpp"
+#include "cdkit/broadphase/sorted_cell_grid.hpp"
 #include "cdkit/broadphase/sweep_and_prune.hpp"
 #include "cdkit/broadphase/uniform_grid.hpp"
 
@@ -54,11 +56,7 @@ private:
 
 /// CPU time of the calling thread in ms: on a shared, loaded machine it leaves out the time the scheduler
 /// gives to other processes (wall-clock times there vary 2-3x from run to run).
-double thread_cpu_ms() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
-}
+double thread_cpu_ms() { return 1e3 * cdbench::thread_cpu_seconds(); }
 
 /// Reference for N > 10k, where brute force would take seconds per frame: a stateless full-sort sweep
 /// (sort by min x, scan while min x <= max x, test y and z). Exact; cross-checked against brute force in
@@ -181,7 +179,7 @@ int main(int argc, char** argv) {
     // (FCL's SaP takes ~0.5 s per teleport frame at 1k and grows quadratically).
     std::map<std::pair<int, std::string>, bool> over_budget;
     std::ofstream out_csv;
-    if (!csv.empty()) out_csv.open(csv), out_csv << "scene,n,method,median_ms,p99_ms,frames,wrong_frames,pairs_last\n";
+    if (!csv.empty()) out_csv.open(csv), out_csv << "scene,n,method,median_ms,p99_ms,frames,wrong_frames,pairs_last,frames_run\n";
     std::size_t total_wrong_cdkit = 0;
     // A method stops for the rest of a scene once it has used this much time (FCL's SaP and interval tree
     // take seconds per frame at 10k in the dense scenes); its row says how many frames it ran.
@@ -198,6 +196,7 @@ int main(int argc, char** argv) {
             methods.push_back(std::make_unique<CdkitMethod<cdkit::SweepAndPrune<double>>>("cdkit_sap"));
             methods.push_back(std::make_unique<CdkitMethod<cdkit::UniformGrid<double>>>("cdkit_grid"));
             methods.push_back(std::make_unique<CdkitMethod<cdkit::DynamicAabbTree<double>>>("cdkit_dbvt"));
+            methods.push_back(std::make_unique<CdkitMethod<cdkit::SortedCellGrid<double>>>("cdkit_sorted_grid"));
             std::erase_if(methods, [&](const auto& m) {
                 return !(bf_ref && m->name() == "cdkit_brute_force") &&
                        std::find(skip.begin(), skip.end(), m->name()) != skip.end();
@@ -271,7 +270,7 @@ int main(int argc, char** argv) {
                     std::printf("|   first wrong frame of %s: %s | | | | | |\n", methods[k]->name().c_str(), res[k].first_diff.c_str());
                 if (out_csv)
                     out_csv << scene.name << ',' << n << ',' << methods[k]->name() << ',' << res[k].median() << ','
-                            << res[k].p99() << ',' << frames << ',' << res[k].wrong_frames << ',' << last_pairs << '\n';
+                            << res[k].p99() << ',' << frames << ',' << res[k].wrong_frames << ',' << last_pairs << ',' << res[k].ms.size() << '\n';
             }
             std::fflush(stdout);
         }

@@ -271,7 +271,7 @@ int main(int argc, char** argv) {
         const auto poses = near_poses(mesh, o.poses);
         const int reps = mesh.triangles.size() > 400000 ? 1 : o.reps;
         std::fprintf(stderr, "%s: %zu triangles\n", name.c_str(), mesh.triangles.size());
-        const std::vector<SplitStrategy> splits = o.quick ? std::vector<SplitStrategy>{SplitStrategy::median}
+        const std::vector<SplitStrategy> splits = o.quick ? std::vector<SplitStrategy>{BuildOptions{}.split}
                                                           : std::vector<SplitStrategy>{SplitStrategy::median, SplitStrategy::sah,
                                                                                        SplitStrategy::pca_volume};
         for (SplitStrategy s : splits) {
@@ -288,10 +288,10 @@ int main(int argc, char** argv) {
             }
         }
         // Compact trees: float boxes with up to 4 triangles per leaf (the memory requirement, under 2× the mesh).
-        rows.push_back(measure<Aabb<float>, double>(name, "aabb_f/d", mesh, moved, poses, SplitStrategy::median, 4, reps));
-        rows.push_back(measure<Obb<float>, double>(name, "obb_f/d", mesh, moved, poses, SplitStrategy::median, 4, reps));
-        rows.push_back(measure<Aabb<float>, float>(name, "aabb_f", mesh, moved, poses, SplitStrategy::median, 4, reps));
-        rows.push_back(measure<Obb<float>, float>(name, "obb_f", mesh, moved, poses, SplitStrategy::median, 4, reps));
+        rows.push_back(measure<Aabb<float>, double>(name, "aabb_f/d", mesh, moved, poses, BuildOptions{}.split, 4, reps));
+        rows.push_back(measure<Obb<float>, double>(name, "obb_f/d", mesh, moved, poses, BuildOptions{}.split, 4, reps));
+        rows.push_back(measure<Aabb<float>, float>(name, "aabb_f", mesh, moved, poses, BuildOptions{}.split, 4, reps));
+        rows.push_back(measure<Obb<float>, float>(name, "obb_f", mesh, moved, poses, BuildOptions{}.split, 4, reps));
         rows.push_back(measure_boxtree<double>(name, mesh, moved, poses, reps));
         rows.push_back(measure_boxtree<float>(name, mesh, moved, poses, reps));
         if (o.fcl)

@@ -8,15 +8,19 @@
 //  3. Error of the volume against a Monte Carlo reference of vol(A ∩ B) of the meshes (uniform samples in
 //     the intersection of the two bounding boxes, exact inside tests): raw Σ lens volumes and the calibrated
 //     estimate (cell weights), median and max relative error over the poses.
+//  4. ist_query()'s one descent against the two traversals it replaced (penetration_volume, then
+//     sphere_distance when no inner spheres overlap) at those poses and at separated ones (B moved 5% of the
+//     diagonal away from contact, δ = +0.05): median µs, node tests, and whether the answers are bit for bit equal.
 //
 // Usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]
 //   --quick: 1k and 10k spheres, 8 poses, 300k samples (under a minute); default adds 100k spheres,
 //   24 poses, 2M samples.
 //   --counts N,M,...: sphere counts instead of the mode's.
-//   --depth-calibration, --no-depth-calibration, --calibration-iterations N: set
-//   PackingOptions::depth_calibration(_iterations) (default: the library's defaults).
+//   --depth-calibration, --no-depth-calibration, --calibration-iterations N, --calibration-strength A: set
+//   PackingOptions::depth_calibration(_iterations, _strength) (default: the library's defaults).
 //   --plots DIR: instead, write the CSV files that benchmarks/ist/plot_ist.py draws (docs/images/ist_*.png):
 //   the packing's cross-section at 1k and 10k spheres, the tree's levels 1-3, force and torque along a path.
+#include "../thread_cpu_clock.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/io/load_mesh.hpp"
@@ -41,13 +45,23 @@ using namespace cdkit;
 
 namespace {
 
-double thread_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
+double thread_seconds() { return cdbench::thread_cpu_seconds(); }
 double wall_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Median thread-CPU µs of f() over batches long enough for the clock.
+template <class F> double time_us(F&& f) {
+    int reps = 1;
+    double elapsed = 0;
+    while (true) {
+        const double s = thread_seconds();
+        for (int k = 0; k < reps; ++k) f();
+        elapsed = thread_seconds() - s;
+        if (elapsed > 2e-3 || reps >= 1 << 14) break;
+        reps *= 4;
+    }
+    return 1e6 * elapsed / reps;
 }
 
 double quantile(std::vector<double> v, double q) {
@@ -63,6 +77,15 @@ struct Row {
     std::size_t depth = 0, nodes = 0;
     double q_median = 0, q_p99 = 0, tests_median = 0, pairs_median = 0;
     double raw_err_median = 0, cal_err_median = 0, cal_err_max = 0, cal_bias = 0;
+};
+
+// ist_query's one descent against the two traversals it replaces (penetration_volume, then sphere_distance
+// when no inner spheres overlap), at the overlapping (δ = −0.05) and separated (δ = +0.05) poses.
+struct TraversalRow {
+    std::size_t spheres = 0;
+    const char* poses = "";
+    double one_median = 0, two_median = 0, one_tests = 0, two_tests = 0;
+    int same = 0, total = 0;
 };
 
 std::ofstream open_csv(const std::string& path) {
@@ -154,6 +177,7 @@ int main(int argc, char** argv) {
     bool depth_calibration = PackingOptions{}.depth_calibration;
     std::vector<std::size_t> user_counts;
     int calibration_iterations = PackingOptions{}.depth_calibration_iterations;
+    double calibration_strength = PackingOptions{}.depth_calibration_strength;
     long samples = -1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -174,9 +198,11 @@ int main(int argc, char** argv) {
             }
         }
         else if (a == "--calibration-iterations" && i + 1 < argc) calibration_iterations = std::atoi(argv[++i]);
+        else if (a == "--calibration-strength" && i + 1 < argc) calibration_strength = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]\n"
-                         "                       [--counts N,M,...] [--[no-]depth-calibration] [--calibration-iterations N]\n");
+                         "                       [--counts N,M,...] [--[no-]depth-calibration] [--calibration-iterations N]\n"
+                         "                       [--calibration-strength A]\n");
             return 2;
         }
     }
@@ -205,7 +231,7 @@ int main(int argc, char** argv) {
         const InsideTest inside(mesh);
         std::mt19937_64 rng(2024);
         std::normal_distribution<double> g;
-        std::vector<Transform<double>> pose_b;
+        std::vector<Transform<double>> pose_b, pose_apart;
         for (int i = 0; i < poses; ++i) {
             Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
             q.normalize();
@@ -218,6 +244,7 @@ int main(int argc, char** argv) {
                 (collide(model, Transform<double>{}, model, Transform<double>(R, mid * u)).colliding ? in : out) = mid;
             }
             pose_b.emplace_back(R, (out - 0.05 * diag) * u);
+            pose_apart.emplace_back(R, (out + 0.05 * diag) * u);
         }
         // Monte Carlo reference of vol(A ∩ B) per pose.
         std::vector<double> reference(poses), ref_err(poses);
@@ -245,6 +272,7 @@ int main(int argc, char** argv) {
                     wall_seconds() - t_mc, 100 * quantile(ref_err, 0.5));
 
         std::vector<Row> rows;
+        std::vector<TraversalRow> traversal_rows;
         struct CurvePoint { std::size_t packing, spheres; double coverage; };
         std::vector<CurvePoint> curve;
         for (std::size_t count : counts) {
@@ -252,6 +280,7 @@ int main(int argc, char** argv) {
             po.max_spheres = count;
             po.depth_calibration = depth_calibration;
             po.depth_calibration_iterations = calibration_iterations;
+            po.depth_calibration_strength = calibration_strength;
             const double t0 = wall_seconds();
             const SpherePacking packing = pack_spheres(mesh, po);
             const double pack_s = wall_seconds() - t0;
@@ -304,6 +333,36 @@ int main(int argc, char** argv) {
                 row.cal_err_max = quantile(cal_err, 1.0);
                 row.cal_bias = cal_err.empty() ? 0 : bias / double(cal_err.size());
                 rows.push_back(row);
+                if (degree != IstBuildOptions{}.out_degree) continue;
+                for (const auto* set : {&pose_b, &pose_apart}) {
+                    TraversalRow tr;
+                    tr.spheres = row.spheres;
+                    tr.poses = set == &pose_b ? "overlapping (δ = -0.05)" : "separated (δ = +0.05)";
+                    std::vector<double> one, two, one_tests, two_tests;
+                    for (const auto& pb : *set) {
+                        IstQueryResult q1, q2;
+                        one.push_back(time_us([&] { q1 = ist_query(tree, {}, tree, pb); }));
+                        two.push_back(time_us([&] {  // the former ist_query: volume, then distance if apart
+                            q2 = {};
+                            q2.volume = penetration_volume(tree, {}, tree, pb);
+                            q2.stats = q2.volume.stats;
+                            if (q2.volume.volume_lower == 0) {
+                                q2.distance = sphere_distance(tree, {}, tree, pb);
+                                q2.stats.node_tests += q2.distance.stats.node_tests;
+                            }
+                        }));
+                        one_tests.push_back(double(q1.stats.node_tests));
+                        two_tests.push_back(double(q2.stats.node_tests));
+                        tr.same += q1.volume.volume == q2.volume.volume && q1.volume.calibrated == q2.volume.calibrated &&
+                                   (q1.volume.volume > 0 || q1.distance.distance == q2.distance.distance);
+                        ++tr.total;
+                    }
+                    tr.one_median = quantile(one, 0.5);
+                    tr.two_median = quantile(two, 0.5);
+                    tr.one_tests = quantile(one_tests, 0.5);
+                    tr.two_tests = quantile(two_tests, 0.5);
+                    traversal_rows.push_back(tr);
+                }
             }
         }
 
@@ -318,6 +377,14 @@ int main(int argc, char** argv) {
             std::printf("| %zu | %d | %.1f%% | %.2f | %.3f | %zu | %zu | %.1f | %.1f | %.0f | %.0f | %.1f%% | %.1f%% | %.1f%% | %+.1f%% |\n",
                         r.spheres, r.degree, 100 * r.coverage, r.pack_s, r.tree_s, r.depth, r.nodes, r.q_median, r.q_p99,
                         r.tests_median, r.pairs_median, 100 * r.raw_err_median, 100 * r.cal_err_median, 100 * r.cal_err_max, 100 * r.cal_bias);
+        std::printf("\n## ist_query: one descent against the two traversals (out-degree %d)\n\n"
+                    "Median thread-CPU µs per query over the poses; \"same\": poses where volume, calibrated volume and "
+                    "(when apart) distance are bit for bit equal.\n\n"
+                    "| spheres | poses | one descent µs | two traversals µs | ratio (one / two) | node tests (one) | node tests (two) | same |\n"
+                    "|---:|---|---:|---:|---:|---:|---:|---:|\n", IstBuildOptions{}.out_degree);
+        for (const TraversalRow& t : traversal_rows)
+            std::printf("| %zu | %s | %.1f | %.1f | %.2f | %.0f | %.0f | %d/%d |\n", t.spheres, t.poses, t.one_median,
+                        t.two_median, t.one_median / t.two_median, t.one_tests, t.two_tests, t.same, t.total);
         if (!csv.empty()) {
             std::ofstream f(csv);
             if (!f) throw Error(csv, "", "cannot open for writing");

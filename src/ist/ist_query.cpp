@@ -4,8 +4,10 @@
 #include "cdkit/bvh/traverse.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <queue>
+#include <type_traits>
 
 namespace cdkit {
 namespace {
@@ -20,6 +22,96 @@ struct Frame {
     Vec3d t;
     [[nodiscard]] Vec3d operator()(const Vec3d& p) const noexcept { return R * p + t; }
 };
+
+/// Which node of a pair to split: the larger one (A's on a tie), never a leaf.
+bool split_a(const IstNode& x, const IstNode& y) noexcept { return y.is_leaf() || (!x.is_leaf() && x.radius >= y.radius); }
+
+/// Insertion sort by descending key (≤ 16 items): pushed in this order, the smallest key is popped first.
+/// Equal keys keep their index order, so the order is the same wherever it is used.
+template <class T> void sort_deepest_last(T* v, std::size_t n) noexcept {
+    for (std::size_t i = 1; i < n; ++i) {
+        const T t = v[i];
+        std::size_t j = i;
+        for (; j > 0 && v[j - 1].key < t.key; --j) v[j] = v[j - 1];
+        v[j] = t;
+    }
+}
+
+/// A node pair and its sort key.
+struct PairKey {
+    std::uint32_t a, b;
+    double key;
+};
+
+/// The exact volume traversal, shared by penetration_volume() and ist_query() so that both visit the same
+/// pairs in the same order and sum bit for bit alike: depth first over the pairs whose bounding spheres (and
+/// all their ancestors') overlap, children deepest overlap first (smallest |c_a − c_b|² − (r_a + r_b)², which
+/// finds near pairs early). With `Frontier`, until the first overlapping inner-sphere pair it also keeps the
+/// children that leave that path in `far` (key = |c_a − c_b|²) and reports the path's leaf pairs to
+/// `on_leaf(x, y, cy, |c_a − c_b| − r_a − r_b)`, for ist_query()'s distance.
+template <bool Frontier, class OnLeaf>
+void volume_descent(const InnerSphereTree& a, const InnerSphereTree& b, const Frame& to_a, bool collect_pairs,
+                    PenetrationVolumeResult& out, std::vector<PairKey>* far, OnLeaf&& on_leaf) {
+    const auto& na = a.nodes();
+    const auto& nb = b.nodes();
+    const auto& wa = a.cell_weights();
+    const auto& wb = b.cell_weights();
+    double exact = 0, calibrated = 0;
+    detail::SmallStack<PairKey, 256> stack;
+    std::array<PairKey, 16> kids, far_kids;  // out-degree ≤ 16 (validated)
+    {
+        ++out.stats.node_tests;
+        const Vec3d cy = to_a(nb[0].center);
+        const double rr = na[0].radius + nb[0].radius;
+        const double d2 = (na[0].center - cy).squaredNorm();
+        if (d2 < rr * rr) stack.push({0, 0, d2 - rr * rr});
+        else if constexpr (Frontier) far->push_back({0, 0, d2});
+    }
+    // One step of the descent; the frontier variant runs only until the first overlap, then the plain one
+    // goes on with the same stack (same order), so the volume-only part costs what penetration_volume()'s does.
+    auto step = [&](auto frontier) {
+        constexpr bool keep_far = decltype(frontier)::value;
+        const PairKey p = stack.pop();
+        const IstNode& x = na[p.a];
+        const IstNode& y = nb[p.b];
+        const Vec3d cy = to_a(y.center);
+        if (x.is_leaf() && y.is_leaf()) {
+            ++out.stats.leaf_pairs;
+            const double d = (x.center - cy).norm();
+            const double v = sphere_intersection_volume(x.radius, y.radius, d);
+            if (v > 0) {
+                exact += v;
+                calibrated += v * wa[x.first] * wb[y.first];
+                if (collect_pairs) out.pairs.push_back({x.first, y.first, v});
+                if constexpr (keep_far) far->clear();
+            }
+            if constexpr (keep_far)
+                if (exact == 0) on_leaf(x, y, cy, d - x.radius - y.radius);
+            return;
+        }
+        std::size_t n = 0, nf = 0;
+        auto child = [&](std::uint32_t ia, std::uint32_t ib, const IstNode& cx, const IstNode& cn, const Vec3d& c) {
+            ++out.stats.node_tests;
+            const double rr = cx.radius + cn.radius;
+            const double d2 = (cx.center - c).squaredNorm();
+            if (d2 < rr * rr) kids[n++] = {ia, ib, d2 - rr * rr};
+            else if constexpr (keep_far) far_kids[nf++] = {ia, ib, d2};  // the bound's square root waits for the distance search
+        };
+        if (split_a(x, y)) {
+            for (std::uint32_t j = x.first; j < x.first + x.count; ++j) child(j, p.b, na[j], y, cy);
+        } else {
+            for (std::uint32_t j = y.first; j < y.first + y.count; ++j) child(p.a, j, x, nb[j], to_a(nb[j].center));
+        }
+        sort_deepest_last(kids.data(), n);
+        for (std::size_t k = 0; k < n; ++k) stack.push(kids[k]);
+        if constexpr (keep_far) far->insert(far->end(), far_kids.begin(), far_kids.begin() + std::ptrdiff_t(nf));
+    };
+    if constexpr (Frontier)
+        while (!stack.empty() && exact == 0) step(std::true_type{});
+    while (!stack.empty()) step(std::false_type{});
+    out.volume = out.volume_lower = out.volume_upper = exact;
+    out.calibrated = calibrated;
+}
 
 }  // namespace
 
@@ -54,29 +146,7 @@ PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Trans
     };
 
     if (request.max_node_tests == 0) {
-        // Exact: depth-first, every overlapping pair.
-        struct Pair { std::uint32_t a, b; };
-        detail::SmallStack<Pair, 256> stack;
-        if (overlaps(na[0], na[0].center, nb[0], to_a(nb[0].center))) stack.push({0, 0});
-        while (!stack.empty()) {
-            const Pair p = stack.pop();
-            const IstNode& x = na[p.a];
-            const IstNode& y = nb[p.b];
-            const Vec3d cy = to_a(y.center);
-            if (x.is_leaf() && y.is_leaf()) {
-                leaf_pair(x, y, cy);
-                continue;
-            }
-            if (y.is_leaf() || (!x.is_leaf() && x.radius >= y.radius)) {
-                for (std::uint32_t j = x.first; j < x.first + x.count; ++j)
-                    if (overlaps(na[j], na[j].center, y, cy)) stack.push({j, p.b});
-            } else {
-                for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
-                    if (overlaps(x, x.center, nb[j], to_a(nb[j].center))) stack.push({p.a, j});
-            }
-        }
-        out.volume = out.volume_lower = out.volume_upper = exact;
-        out.calibrated = calibrated;
+        volume_descent<false>(a, b, to_a, request.collect_pairs, out, nullptr, [](auto&&...) {});
         return out;
     }
 
@@ -195,20 +265,116 @@ IstDistanceResult sphere_distance(const InnerSphereTree& a, const Transform<doub
     return out;
 }
 
-IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
-                         const Transform<double>& pose_b, const IstRequest& request) {
+namespace {
+
+/// The two-pass combined query, kept for the time-critical mode: the best-first volume traversal, then the
+/// distance traversal when no inner spheres overlap (each with the full budget).
+IstQueryResult ist_query_two_pass(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
+                                  const Transform<double>& pose_b, const IstRequest& request) {
     IstQueryResult out;
     out.volume = penetration_volume(a, pose_a, b, pose_b, request);
     out.status = out.volume.status;
     if (out.status != QueryStatus::ok) return out;
     out.overlapping = out.volume.volume_lower > 0;
+    out.stats = out.volume.stats;
     if (!out.overlapping) {
         out.distance = sphere_distance(a, pose_a, b, pose_b, request);
         out.overlapping = out.distance.complete && out.distance.distance <= 0 && out.volume.volume_upper > 0;
+        out.stats.node_tests += out.distance.stats.node_tests;
+        out.stats.leaf_pairs += out.distance.stats.leaf_pairs;
     } else {
         out.distance.distance = 0;
         out.distance.lower_bound = 0;
     }
+    return out;
+}
+
+}  // namespace
+
+IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
+                         const Transform<double>& pose_b, const IstRequest& request) {
+    if (request.max_node_tests != 0) return ist_query_two_pass(a, pose_a, b, pose_b, request);
+    IstQueryResult out;
+    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
+        out.status = out.volume.status = out.distance.status = QueryStatus::invalid_pose;
+        return out;
+    }
+    if (a.empty() || b.empty()) return out;
+    const Transform<double> rel = pose_a.inverse() * pose_b;
+    const Frame to_a{rel.R, rel.t};
+    const auto& na = a.nodes();
+    const auto& nb = b.nodes();
+
+    // One descent, every node pair tested at most once. A pair is on the volume path while its bounding
+    // spheres and all its ancestors' overlap: those pairs are visited first, by penetration_volume()'s own
+    // traversal (volume_descent), so volume, calibrated volume and pairs are bit for bit the same. While no
+    // inner spheres overlap, the children that leave the volume path are kept as a frontier; the first
+    // overlapping inner-sphere pair makes the distance 0 and drops it. If the volume path ends without an
+    // overlap, the distance search goes on from that frontier, best first, with the best inner-sphere
+    // distance the path's leaves gave (sphere_distance()'s bound), instead of starting again from the roots.
+    using Item = PairKey;
+    auto bound = [&](const IstNode& x, const IstNode& y, const Vec3d& cy) { return (x.center - cy).norm() - x.radius - y.radius; };
+    double best = std::numeric_limits<double>::infinity();
+    Vec3d pa = Vec3d::Zero(), pb = Vec3d::Zero();
+    auto leaf = [&](const IstNode& x, const IstNode& y, const Vec3d& cy, double lb) {
+        if (!(lb < best)) return;
+        best = lb;
+        Vec3d u = cy - x.center;
+        const double len = u.norm();
+        u = len > 0 ? Vec3d(u / len) : Vec3d::UnitX();
+        pa = x.center + x.radius * u;
+        pb = cy - y.radius * u;
+        out.distance.sphere_a = x.first;
+        out.distance.sphere_b = y.first;
+    };
+    std::vector<Item> far;  // the distance frontier
+    volume_descent<true>(a, b, to_a, request.collect_pairs, out.volume, &far, leaf);
+    out.stats = out.volume.stats;
+    const double exact = out.volume.volume;
+    if (exact == 0) {
+        // Distance search from the frontier, best first (a min-heap on the bound). The frontier holds
+        // |c_a − c_b|²; the bound is formed as bound() forms it, so the distances are bit for bit sphere_distance()'s.
+        for (Item& f : far) f.key = std::sqrt(f.key) - na[f.a].radius - nb[f.b].radius;
+        auto farther = [](const Item& l, const Item& r) { return l.key > r.key; };
+        std::make_heap(far.begin(), far.end(), farther);
+        while (!far.empty() && best > 0) {
+            std::pop_heap(far.begin(), far.end(), farther);
+            const Item it = far.back();
+            far.pop_back();
+            if (!(it.key < best)) break;  // every other bound is larger
+            const IstNode& x = na[it.a];
+            const IstNode& y = nb[it.b];
+            if (x.is_leaf() && y.is_leaf()) {
+                ++out.stats.leaf_pairs;
+                leaf(x, y, to_a(y.center), it.key);
+                continue;
+            }
+            const Vec3d cy = to_a(y.center);
+            auto child = [&](std::uint32_t ia, std::uint32_t ib, const IstNode& cx, const IstNode& cn, const Vec3d& c) {
+                ++out.stats.node_tests;
+                const double lb = bound(cx, cn, c);
+                if (lb < best) far.push_back({ia, ib, lb}), std::push_heap(far.begin(), far.end(), farther);
+            };
+            if (split_a(x, y)) {
+                for (std::uint32_t j = x.first; j < x.first + x.count; ++j) child(j, it.b, na[j], y, cy);
+            } else {
+                for (std::uint32_t j = y.first; j < y.first + y.count; ++j) child(it.a, j, x, nb[j], to_a(nb[j].center));
+            }
+        }
+    }
+
+    out.volume.stats = out.stats;
+    out.overlapping = exact > 0;
+    if (out.overlapping) {
+        out.distance.distance = out.distance.lower_bound = 0;
+        out.distance.sphere_a = out.distance.sphere_b = 0;
+        return out;
+    }
+    if (best <= 0) pa = pb = (pa + pb) / 2;
+    out.distance.distance = out.distance.lower_bound = std::max(0.0, best);
+    out.distance.point_a = pose_a * pa;
+    out.distance.point_b = pose_a * pb;
+    out.distance.stats = out.stats;
     return out;
 }
 

@@ -105,6 +105,8 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         throw Error(mesh.source, "PackingOptions", "grid_resolution must be 0 (auto) or in [4, 1024]");
     if (options.depth_calibration_iterations < 0 || options.depth_calibration_iterations > 100)
         throw Error(mesh.source, "PackingOptions", "depth_calibration_iterations must lie in [0, 100]");
+    if (!(options.depth_calibration_strength >= 0 && options.depth_calibration_strength <= 1))
+        throw Error(mesh.source, "PackingOptions", "depth_calibration_strength must lie in [0, 1]");
 
     SpherePacking out;
     out.mesh_volume = check_closed_mesh(mesh);
@@ -311,7 +313,8 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
 
     // Depth profile: make the weighted sphere volume match the mesh's volume in each layer of depth (distance
     // to the surface), so that a shallow contact, which only reaches the outer layers, sees the right density.
-    if (options.depth_calibration && !out.spheres.empty()) {
+    if (options.depth_calibration && options.depth_calibration_strength > 0 && options.depth_calibration_iterations > 0 &&
+        !out.spheres.empty()) {
         // 16 layers two samples thick, then one for everything deeper; one sample per layer was noisier
         // (docs/ist.md).
         constexpr int layers = 16;
@@ -363,7 +366,10 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
                 if (v > 0) w[i] *= fv / v;
             }
         }
-        for (std::size_t i = 0; i < n; ++i) out.cell_weights[i] = std::max(1.0, w[i]);
+        // Partial strength: the full fit overshoots (docs/ist.md), w = w_cell^(1−α)·w_fit^α.
+        const double alpha = options.depth_calibration_strength;
+        for (std::size_t i = 0; i < n; ++i)
+            out.cell_weights[i] = std::max(1.0, std::pow(out.cell_weights[i], 1 - alpha) * std::pow(std::max(1.0, w[i]), alpha));
     }
     out.stats.seconds_placing = seconds_since(t1);
     return out;

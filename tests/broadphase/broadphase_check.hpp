@@ -5,6 +5,7 @@
 
 #include "cdkit/broadphase/brute_force.hpp"
 #include "cdkit/broadphase/dynamic_aabb_tree.hpp"
+#include "cdkit/broadphase/sorted_cell_grid.hpp"
 #include "cdkit/broadphase/sweep_and_prune.hpp"
 #include "cdkit/broadphase/uniform_grid.hpp"
 
@@ -31,8 +32,8 @@ inline BroadBox<double> random_box(std::mt19937& rng, double world, double smin,
     return BroadBox<double>::from_center_half(c, h * 0.5);
 }
 
-/// The same edit script on brute force, SAP, two grids (automatic and fixed cell) and two dynamic AABB trees
-/// (default and zero margin); check() compares every pair set with brute force's.
+/// The same edit script on brute force, SAP, two grids (automatic and fixed cell), two dynamic AABB trees
+/// (default and zero margin) and the sorted-cell grid; check() compares every pair set with brute force's.
 struct AllBroadPhases {
     BruteForceBroadPhase<double> bf;
     SweepAndPrune<double> sap;
@@ -40,6 +41,7 @@ struct AllBroadPhases {
     UniformGrid<double> grid_fixed{0.7, 8};
     DynamicAabbTree<double> tree;
     DynamicAabbTree<double> tight{{0.0, 0.0}};
+    SortedCellGrid<double> cells;
     ObjectId insert(const BroadBox<double>& b) {
         const ObjectId id = bf.insert(b);
         // Same id policy everywhere: handles agree with brute force's.
@@ -48,13 +50,14 @@ struct AllBroadPhases {
         REQUIRE(grid_fixed.insert(b) == id);
         REQUIRE(tree.insert(b) == id);
         REQUIRE(tight.insert(b) == id);
+        REQUIRE(cells.insert(b) == id);
         return id;
     }
     void remove(ObjectId id) {
-        bf.remove(id), sap.remove(id), grid.remove(id), grid_fixed.remove(id), tree.remove(id), tight.remove(id);
+        bf.remove(id), sap.remove(id), grid.remove(id), grid_fixed.remove(id), tree.remove(id), tight.remove(id), cells.remove(id);
     }
     void move(ObjectId id, const BroadBox<double>& b) {
-        bf.move(id, b), sap.move(id, b), grid.move(id, b), grid_fixed.move(id, b), tree.move(id, b), tight.move(id, b);
+        bf.move(id, b), sap.move(id, b), grid.move(id, b), grid_fixed.move(id, b), tree.move(id, b), tight.move(id, b), cells.move(id, b);
     }
     std::size_t check(bool validate_trees = true) {
         const auto ref = sorted_pairs(bf);
@@ -63,6 +66,7 @@ struct AllBroadPhases {
         CHECK(sorted_pairs(grid_fixed) == ref);
         CHECK(sorted_pairs(tree) == ref);
         CHECK(sorted_pairs(tight) == ref);
+        CHECK(sorted_pairs(cells) == ref);
         if (validate_trees) {
             CHECK_NOTHROW(tree.validate());
             CHECK_NOTHROW(tight.validate());

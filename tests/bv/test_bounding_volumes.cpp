@@ -134,5 +134,17 @@ TEST_CASE("OBB of one triangle: flat, edge-aligned, never larger than the PCA bo
     line.vertices = {{0, 0, 0}, {1, 2, 3}, {2, 4, 6}};
     line.triangles = {{0, 1, 2}};
     const Obb<double> lb = fit_all<Obb<double>>(line);
+    CHECK(std::abs(lb.axes.determinant() - 1.0) < 1e-9);
     for (const auto& v : line.vertices) CHECK(lb.contains(v));
+    CHECK(lb.half.maxCoeff() > 3.0);  // it spans the segment
+    // Two coincident vertices (one edge of zero length) and all three coincident: still a rotation.
+    for (const auto& verts : {std::vector<Vec3<double>>{{0, 0, 0}, {0, 0, 0}, {1, 2, 3}},
+                              std::vector<Vec3<double>>{{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}}) {
+        TriangleMesh<double> d;
+        d.vertices = verts;
+        d.triangles = {{0, 1, 2}};
+        const Obb<double> db = fit_all<Obb<double>>(d);
+        CHECK(std::abs(db.axes.determinant() - 1.0) < 1e-9);
+        for (const auto& v : d.vertices) CHECK(db.contains(v));
+    }
 }

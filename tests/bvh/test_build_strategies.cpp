@@ -57,9 +57,10 @@ TEST_CASE("SAH lowers the summed node area", "[bvh][build]") {
         for (const auto& n : t.nodes()) a += n.bv.half.x() * n.bv.half.y() + n.bv.half.y() * n.bv.half.z() + n.bv.half.z() * n.bv.half.x();
         return a;
     };
-    BuildOptions sah;
+    BuildOptions sah, median;
     sah.split = SplitStrategy::sah;
-    const double median_area = summed_area(build_bvh<Aabb<double>>(m));
+    median.split = SplitStrategy::median;
+    const double median_area = summed_area(build_bvh<Aabb<double>>(m, median));
     const double sah_area = summed_area(build_bvh<Aabb<double>>(m, sah));
     CHECK(sah_area < median_area);
 }

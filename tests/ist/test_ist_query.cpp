@@ -1,5 +1,6 @@
 // IST queries against brute force over all sphere pairs and against the analytic lens volume; symmetry,
-// time-critical bounds, invalid poses and concurrent const queries.
+// ist_query's one descent against the two traversals (bit for bit), time-critical bounds, invalid poses
+// and concurrent const queries.
 #include "ist_test_util.hpp"
 
 #include <catch2/catch.hpp>
@@ -101,6 +102,64 @@ TEST_CASE("penetration volume is zero when apart, and distance equals brute forc
         }
     }
     CHECK(apart >= 4);
+}
+
+TEST_CASE("ist_query's one descent gives the two traversals' answers bit for bit", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    std::mt19937_64 rng(23);
+    int apart = 0, overlapping = 0;
+    const int n = scaled(60, 12);
+    for (int i = 0; i < n; ++i) {
+        // Spreads from deep overlap to well apart, so both branches are exercised at every scale.
+        const auto pa = random_pose(rng, 0.2), pb = random_pose(rng, 0.4 + 1.6 * double(i % 4) / 3);
+        const auto q = ist_query(t, pa, t, pb);
+        const auto v = penetration_volume(t, pa, t, pb);
+        REQUIRE(q.status == QueryStatus::ok);
+        CHECK(q.volume.volume == v.volume);
+        CHECK(q.volume.calibrated == v.calibrated);
+        CHECK(q.volume.volume_lower == v.volume_lower);
+        CHECK(q.volume.volume_upper == v.volume_upper);
+        REQUIRE(q.volume.pairs.size() == v.pairs.size());
+        for (std::size_t k = 0; k < v.pairs.size(); ++k) {
+            CHECK(q.volume.pairs[k].a == v.pairs[k].a);
+            CHECK(q.volume.pairs[k].b == v.pairs[k].b);
+            CHECK(q.volume.pairs[k].volume == v.pairs[k].volume);
+        }
+        CHECK(q.overlapping == (v.volume > 0));
+        if (v.volume > 0) {
+            ++overlapping;
+            CHECK(q.distance.distance == 0);
+            continue;
+        }
+        ++apart;
+        const auto d = sphere_distance(t, pa, t, pb);
+        CHECK(q.distance.distance == d.distance);
+        CHECK(q.distance.lower_bound == d.lower_bound);
+        CHECK(q.distance.complete);
+        if (q.distance.sphere_a == d.sphere_a && q.distance.sphere_b == d.sphere_b) {  // ties may pick another pair
+            CHECK(q.distance.point_a == d.point_a);
+            CHECK(q.distance.point_b == d.point_b);
+        }
+        // Less work than the two traversals: the volume pass's tests are shared.
+        CHECK(q.stats.node_tests <= v.stats.node_tests + d.stats.node_tests);
+    }
+    CHECK(apart >= n / 8);
+    CHECK(overlapping >= n / 8);
+    // The same on trees of different objects (different depths and radii), both ways round.
+    const InnerSphereTree& s = sphere_tree();
+    for (int i = 0; i < scaled(20, 6); ++i) {
+        const auto pa = random_pose(rng, 0.3), pb = random_pose(rng, 0.6 + 1.2 * double(i % 3) / 2);
+        for (int swap = 0; swap < 2; ++swap) {
+            const InnerSphereTree& x = swap ? s : t;
+            const InnerSphereTree& y = swap ? t : s;
+            const auto q = ist_query(x, pa, y, pb);
+            const auto v = penetration_volume(x, pa, y, pb);
+            CHECK(q.volume.volume == v.volume);
+            CHECK(q.volume.calibrated == v.calibrated);
+            CHECK(q.volume.pairs.size() == v.pairs.size());
+            if (v.volume == 0) CHECK(q.distance.distance == sphere_distance(x, pa, y, pb).distance);
+        }
+    }
 }
 
 TEST_CASE("sphere meshes: penetration volume matches the analytic lens", "[ist][query]") {

@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 
 using namespace cdkit;
@@ -242,10 +243,27 @@ TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and th
     o.depth_calibration_iterations = 0;
     const SpherePacking none = pack_spheres(bunny, o);  // zero rounds: the plain cell weights
     o.depth_calibration_iterations = 4;
+    o.depth_calibration_strength = 0;
+    const SpherePacking zero = pack_spheres(bunny, o);  // zero strength: the plain cell weights too
+    o.depth_calibration_strength = 1;
+    const SpherePacking full = pack_spheres(bunny, o);
+    o.depth_calibration_strength = PackingOptions{}.depth_calibration_strength;
     const SpherePacking fitted = pack_spheres(bunny, o);
     REQUIRE(fitted.spheres.size() == plain.spheres.size());
     REQUIRE(fitted.cell_weights.size() == plain.cell_weights.size());
     CHECK(none.cell_weights == plain.cell_weights);
+    REQUIRE(full.cell_weights.size() == plain.cell_weights.size());
+    CHECK(PackingOptions{}.depth_calibration);  // on by default
+    CHECK(zero.cell_weights == plain.cell_weights);
+    // The default strength is the geometric blend of the plain and the fully fitted weights: between them.
+    std::size_t between = 0;
+    for (std::size_t i = 0; i < fitted.spheres.size(); ++i) {
+        const double lo = std::min(plain.cell_weights[i], full.cell_weights[i]), hi = std::max(plain.cell_weights[i], full.cell_weights[i]);
+        between += fitted.cell_weights[i] >= lo * (1 - 1e-12) && fitted.cell_weights[i] <= hi * (1 + 1e-12);
+        CHECK(fitted.cell_weights[i] == Approx(std::pow(plain.cell_weights[i], 1 - o.depth_calibration_strength) *
+                                               std::pow(full.cell_weights[i], o.depth_calibration_strength)).epsilon(1e-12));
+    }
+    CHECK(between == fitted.spheres.size());
     double total = 0;
     std::size_t changed = 0, raised_small = 0, small = 0;
     double median_radius = 0;
@@ -269,6 +287,11 @@ TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and th
     CHECK(total == Approx(fitted.mesh_volume).epsilon(0.2));
     // The outer layer holds the most empty space, and the small spheres sit there: most of them gain weight.
     CHECK(raised_small > small / 2);
+    o.depth_calibration_strength = 1.5;
+    CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+    o.depth_calibration_strength = -0.1;
+    CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+    o.depth_calibration_strength = 0.6;
     o.depth_calibration_iterations = -1;
     CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
     o.depth_calibration_iterations = 101;

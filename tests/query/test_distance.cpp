@@ -1,6 +1,7 @@
 // distance() on BVHs against distance_brute_force() (same triangle routine, so equal values when no error
 // is allowed), the error bound when one is, closest points on their triangles, intersecting poses, parallel
-// faces, degenerate triangles, both scalars, Aabb and Obb, and concurrent queries. Fixed seeds.
+// faces, degenerate triangles, both scalars, Aabb, Obb and Rss (also float Rss over double meshes, and SAH-built
+// trees), the traversal's pruning at work, and concurrent queries. Fixed seeds.
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
@@ -86,7 +87,7 @@ template <class S> TriangleMesh<S> grid_box(Vec3<double> h, int n) {
 }  // namespace
 
 TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[distance]", Aabb<float>, Aabb<double>,
-                   Obb<float>, Obb<double>) {
+                   Obb<float>, Obb<double>, Rss<float>, Rss<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
     std::mt19937_64 rng(2024);
@@ -123,7 +124,7 @@ TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[
 }
 
 TEMPLATE_TEST_CASE("distance: boxes face to face, parallel faces at a gap", "[distance]", Aabb<float>, Aabb<double>,
-                   Obb<float>, Obb<double>) {
+                   Obb<float>, Obb<double>, Rss<float>, Rss<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
     const MeshModel<BV> box(grid_box<S>({0.5, 0.3, 0.2}, 4));
@@ -143,7 +144,7 @@ TEMPLATE_TEST_CASE("distance: boxes face to face, parallel faces at a gap", "[di
 }
 
 TEMPLATE_TEST_CASE("distance: meshes with degenerate triangles", "[distance]", Aabb<float>, Aabb<double>, Obb<float>,
-                   Obb<double>) {
+                   Obb<double>, Rss<float>, Rss<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
     TriangleMesh<S> m = test::random_soup<S>(80, S(0.3), 9);
@@ -223,9 +224,10 @@ TEST_CASE("distance lower bounds of boxes never exceed the sampled distance", "[
     CHECK(positive < n);
 }
 
-TEST_CASE("distance queries are thread-safe", "[distance]") {
-    const MeshModel<Obb<double>> a(test::uv_sphere<double>(0.7, 16, 24));
-    const MeshModel<Obb<double>> b(test::random_soup<double>(300, 0.2, 3));
+TEMPLATE_TEST_CASE("distance queries are thread-safe", "[distance]", Obb<double>, Rss<double>) {
+    using BV = TestType;
+    const MeshModel<BV> a(test::uv_sphere<double>(0.7, 16, 24));
+    const MeshModel<BV> b(test::random_soup<double>(300, 0.2, 3));
     std::mt19937_64 rng(99);
     std::vector<Transform<double>> poses;
     for (int k = 0; k < test::scaled(64, 8); ++k) poses.push_back(random_pose<double>(rng, 2.0));
@@ -240,4 +242,53 @@ TEST_CASE("distance queries are thread-safe", "[distance]") {
         });
     for (auto& th : threads) th.join();
     for (int t = 0; t < 4; ++t) CHECK(par[t] == serial);
+}
+
+TEMPLATE_TEST_CASE("distance over float BVs on double meshes and SAH-built RSS trees equals brute force",
+                   "[distance][float_over_double]", (MeshModel<Rss<float>, double>), (MeshModel<Obb<float>, double>),
+                   MeshModel<Rss<double>>) {
+    using Model = TestType;
+    BuildOptions sah;
+    sah.split = SplitStrategy::sah;
+    std::mt19937_64 rng(4242);
+    int separated = 0, total = 0;
+    // Ordinary scale, far from the origin, tiny: the float bounds must stay below the double distances.
+    for (const auto& [scale, offset] : {std::pair{1.0, 0.0}, std::pair{1.0, 1e5}, std::pair{1e-5, 1.0}}) {
+        auto moved = [&](TriangleMesh<double> m) {
+            for (auto& v : m.vertices) v = v * scale + Vec3<double>::Constant(offset);
+            return m;
+        };
+        const Model a(moved(test::uv_sphere<double>(0.8, 8, 12)), sah);
+        const Model b(moved(test::random_soup<double>(80, 0.25, 6)), sah);
+        REQUIRE_NOTHROW(a.validate());
+        REQUIRE_NOTHROW(b.validate());
+        for (int k = 0; k < test::scaled(20, 4); ++k) {
+            // Poses about the meshes' own centre (the offset), so that they meet.
+            const Transform<double> c = Transform<double>::translation(Vec3<double>::Constant(offset));
+            const Transform<double> pa = c * random_pose<double>(rng, 0.5 * scale) * c.inverse();
+            const Transform<double> pb = c * random_pose<double>(rng, 2.0 * scale) * c.inverse();
+            const auto r = distance(a, pa, b, pb);
+            const auto ref = distance_brute_force(a.mesh(), pa, b.mesh(), pb);
+            INFO("scale " << scale << ", offset " << offset << ", pose " << k);
+            REQUIRE(r.distance == ref.distance);
+            separated += r.distance > 0;
+            ++total;
+        }
+    }
+    CHECK(separated >= total / 3);
+    CHECK(separated < total);
+}
+
+TEST_CASE("distance over RSS trees prunes: far fewer triangle pairs than brute force", "[distance]") {
+    // Two spheres of 2·16·24 triangles apart: best-first order with tight bounds measures a tiny share of pairs.
+    const MeshModel<Rss<double>> a(test::uv_sphere<double>(0.5, 16, 24));
+    std::mt19937_64 rng(8);
+    for (int k = 0; k < test::scaled(10, 3); ++k) {
+        const Transform<double> pb(test::random_rotation<double>(rng), Vec3<double>(1.2, 0.1 * k, 0));
+        const auto r = distance(a, Transform<double>(), a, pb);
+        REQUIRE(r.distance == distance_brute_force(a.mesh(), Transform<double>(), a.mesh(), pb).distance);
+        CHECK(r.distance > 0.1);
+        CHECK(r.stats.primitive_tests < 300);  // of 768² ≈ 590k pairs
+        CHECK(r.stats.bv_tests < 2000);
+    }
 }

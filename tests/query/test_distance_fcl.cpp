@@ -1,6 +1,7 @@
 // distance() against FCL's fcl::distance (BVHModel<RSSd> and BVHModel<OBBRSSd>) on the Stanford bunny at
 // seeded proximity poses (bisection to contact, then separated by δ·r). Equal within 1e-9 relative, or the
-// brute force settles the disagreement (cdkit must then equal it).
+// brute force settles the disagreement (cdkit must then equal it). cdkit's Aabb, Obb, Rss (SAH-built) and
+// float Rss over the double mesh must all give the same value, bit for bit.
 #include "mesh_factory.hpp"
 #include "oracles/fcl_mesh.hpp"
 #include "test_common.hpp"
@@ -38,6 +39,10 @@ TEST_CASE("distance agrees with FCL on the bunny at proximity poses", "[distance
     const auto mesh = std::make_shared<const TriangleMesh<double>>(test::unit_scaled(load_mesh(test::data_path("bunny.obj"))));
     const MeshModel<Obb<double>> obb(mesh);
     const MeshModel<Aabb<double>> aabb(mesh);
+    BuildOptions sah;
+    sah.split = SplitStrategy::sah;
+    const MeshModel<Rss<double>> rss_model(mesh, sah);
+    const MeshModel<Rss<float>, double> rss_float(mesh);
     const auto rss = test::fcl_mesh<fcl::RSSd>(*mesh);
     const auto obbrss = test::fcl_mesh<fcl::OBBRSSd>(*mesh);
     double r = 0;
@@ -59,6 +64,8 @@ TEST_CASE("distance agrees with FCL on the bunny at proximity poses", "[distance
             const DistanceResult<double> ours_aabb = distance(aabb, Transform<double>(), aabb, pose);
             ++poses;
             REQUIRE(ours.distance == ours_aabb.distance);
+            REQUIRE(ours.distance == distance(rss_model, Transform<double>(), rss_model, pose).distance);
+            REQUIRE(ours.distance == distance(rss_float, Transform<double>(), rss_float, pose).distance);
             CHECK(ours.distance > 0);
             // Closest points: their distance is the reported one.
             CHECK(std::abs((ours.point_a - ours.point_b).norm() - ours.distance) <= 1e-12);

@@ -118,7 +118,8 @@ void check_same(const std::vector<WorldContact<double>>& got, const std::vector<
 
 TEST_CASE("World contacts equal an all-pairs narrow phase for every broad phase", "[world]") {
     const BroadPhaseKind kinds[] = {BroadPhaseKind::dynamic_aabb_tree, BroadPhaseKind::sweep_and_prune,
-                                    BroadPhaseKind::uniform_grid, BroadPhaseKind::brute_force};
+                                    BroadPhaseKind::uniform_grid, BroadPhaseKind::brute_force,
+                                    BroadPhaseKind::sorted_cell_grid};
     for (const BroadPhaseKind kind : kinds) {
         std::mt19937_64 rng(42);
         World<double> world(WorldOptions{kind});

@@ -10,21 +10,12 @@ namespace cdkit {
 
 /// All-pairs broad phase. Thread safety: const members may run concurrently; insert / remove / move /
 /// for_each_pair must not run concurrently with anything else on the same object.
-template <class S = double> class BruteForceBroadPhase {
-public:
-    using Scalar = S;
-    static constexpr const char* name = "brute_force";
+template <class S = double> class BruteForceBroadPhase : public detail::SlotBroadPhase<S, BruteForceBroadPhase<S>> {
+    using Base = detail::SlotBroadPhase<S, BruteForceBroadPhase<S>>;
+    using Base::slots_;
 
-    /// Adds an object; throws cdkit::Error for a NaN/infinite box or min > max.
-    ObjectId insert(const BroadBox<S>& b) { return slots_.insert(b); }
-    /// Removes an object; throws cdkit::Error for an unknown or already removed id.
-    void remove(ObjectId id) { slots_.remove(id); }
-    /// Replaces an object's box; throws cdkit::Error for a bad id or box.
-    void move(ObjectId id, const BroadBox<S>& b) { slots_.move(id, b); }
-    [[nodiscard]] bool contains(ObjectId id) const noexcept { return slots_.contains(id); }
-    [[nodiscard]] std::size_t size() const noexcept { return slots_.size(); }
-    /// The box of a live object (precondition: contains(id)).
-    [[nodiscard]] const BroadBox<S>& box(ObjectId id) const noexcept { return slots_.box(id); }
+public:
+    static constexpr const char* name = "brute_force";
 
     /// Calls f(a, b) with a < b once for every overlapping pair of live objects.
     template <class F> void for_each_pair(F&& f) {
@@ -46,19 +37,12 @@ public:
             }
         }
     }
-    /// The overlapping pairs, each once, a < b, in no particular order.
-    [[nodiscard]] std::vector<ObjectPair> find_pairs() {
-        std::vector<ObjectPair> out;
-        for_each_pair([&](ObjectId a, ObjectId b) { out.push_back({a, b}); });
-        return out;
-    }
 
 private:
     struct Flat {
         S lo[3], hi[3];
         ObjectId id;
     };
-    detail::ObjectSlots<S> slots_;
     std::vector<Flat> flat_;
 };
 

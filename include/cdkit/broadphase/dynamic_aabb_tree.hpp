@@ -40,9 +40,11 @@ namespace cdkit {
 /// Thread safety: const members (contains, size, box, fat_box, query, height, stats, validate) may run
 /// concurrently with each other; insert / remove / move / for_each_pair / rebuild must not run concurrently
 /// with anything else on the same object.
-template <class S = double> class DynamicAabbTree {
+template <class S = double> class DynamicAabbTree : public detail::SlotBroadPhase<S, DynamicAabbTree<S>> {
+    using Base = detail::SlotBroadPhase<S, DynamicAabbTree<S>>;
+    using Base::slots_;
+
 public:
-    using Scalar = S;
     static constexpr const char* name = "dynamic_aabb_tree";
 
     struct Options {
@@ -127,10 +129,6 @@ public:
         free_list_ = null;
         root_ = nodes_.empty() ? null : 0;
     }
-    [[nodiscard]] bool contains(ObjectId id) const noexcept { return slots_.contains(id); }
-    [[nodiscard]] std::size_t size() const noexcept { return slots_.size(); }
-    /// The (tight) box of a live object (precondition: contains(id)).
-    [[nodiscard]] const BroadBox<S>& box(ObjectId id) const noexcept { return slots_.box(id); }
     /// The fattened box stored in the tree for a live object (precondition: contains(id)).
     [[nodiscard]] const BroadBox<S>& fat_box(ObjectId id) const noexcept { return fat_[id]; }
     /// Tree height (0 for a single leaf, -1 when empty).
@@ -206,11 +204,6 @@ public:
             if (overlap_branch_free(slots_.box(p.a), slots_.box(p.b))) f(p.a, p.b);
         }
         finish_stats();
-    }
-    [[nodiscard]] std::vector<ObjectPair> find_pairs() {
-        std::vector<ObjectPair> out;
-        for_each_pair([&](ObjectId a, ObjectId b) { out.push_back({a, b}); });
-        return out;
     }
 
     /// Checks every invariant (parent links, child boxes inside parents, heights, one leaf per live object
@@ -556,7 +549,6 @@ private:
     }
 
     Options options_{};
-    detail::ObjectSlots<S> slots_;
     std::vector<Node> nodes_;
     std::vector<Node> built_;  // the new node array during rebuild() (kept for its capacity)
     std::int32_t root_ = null, free_list_ = null;

@@ -25,9 +25,11 @@ namespace cdkit {
 
 /// Sweep-and-prune broad phase. Thread safety: const members may run concurrently; insert / remove / move /
 /// for_each_pair / rebuild must not run concurrently with anything else on the same object.
-template <class S = double> class SweepAndPrune {
+template <class S = double> class SweepAndPrune : public detail::SlotBroadPhase<S, SweepAndPrune<S>> {
+    using Base = detail::SlotBroadPhase<S, SweepAndPrune<S>>;
+    using Base::slots_;
+
 public:
-    using Scalar = S;
     static constexpr const char* name = "sweep_and_prune";
 
     /// Statistics of the last for_each_pair.
@@ -61,9 +63,6 @@ public:
     /// Forces the next frame to take the batch path (full sort, sweep axis re-chosen). Use it after
     /// teleporting most objects; the swap budget would also detect it, but later.
     void rebuild() noexcept { force_full_ = true; }
-    [[nodiscard]] bool contains(ObjectId id) const noexcept { return slots_.contains(id); }
-    [[nodiscard]] std::size_t size() const noexcept { return slots_.size(); }
-    [[nodiscard]] const BroadBox<S>& box(ObjectId id) const noexcept { return slots_.box(id); }
     [[nodiscard]] const Stats& stats() const noexcept { return stats_; }
 
     /// Calls f(a, b) with a < b once for every overlapping pair of live objects.
@@ -111,11 +110,6 @@ public:
             }
         }
         stats_.axis_overlaps = cand;
-    }
-    [[nodiscard]] std::vector<ObjectPair> find_pairs() {
-        std::vector<ObjectPair> out;
-        for_each_pair([&](ObjectId a, ObjectId b) { out.push_back({a, b}); });
-        return out;
     }
 
 private:
@@ -168,7 +162,6 @@ private:
         return best;
     }
 
-    detail::ObjectSlots<S> slots_;
     std::vector<Entry> list_;
     std::vector<unsigned char> in_list_;
     std::size_t appended_ = 0, removed_ = 0;

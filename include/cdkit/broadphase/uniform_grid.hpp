@@ -22,9 +22,11 @@ namespace cdkit {
 
 /// Spatial-hash broad phase. Thread safety: const members may run concurrently; insert / remove / move /
 /// for_each_pair / set_cell_size must not run concurrently with anything else on the same object.
-template <class S = double> class UniformGrid {
+template <class S = double> class UniformGrid : public detail::SlotBroadPhase<S, UniformGrid<S>> {
+    using Base = detail::SlotBroadPhase<S, UniformGrid<S>>;
+    using Base::slots_;
+
 public:
-    using Scalar = S;
     static constexpr const char* name = "uniform_grid";
 
     struct Stats {
@@ -41,17 +43,11 @@ public:
             throw Error("<broadphase>", "uniform grid", "cell size must be finite");
     }
 
-    ObjectId insert(const BroadBox<S>& b) { return slots_.insert(b); }
-    void remove(ObjectId id) { slots_.remove(id); }
-    void move(ObjectId id, const BroadBox<S>& b) { slots_.move(id, b); }
     /// Sets the cell edge; <= 0 returns to the automatic size. Throws cdkit::Error for NaN/infinity.
     void set_cell_size(S c) {
         if (!(c <= S(0)) && !std::isfinite(c)) throw Error("<broadphase>", "uniform grid", "cell size must be finite");
         user_cell_ = c;
     }
-    [[nodiscard]] bool contains(ObjectId id) const noexcept { return slots_.contains(id); }
-    [[nodiscard]] std::size_t size() const noexcept { return slots_.size(); }
-    [[nodiscard]] const BroadBox<S>& box(ObjectId id) const noexcept { return slots_.box(id); }
     [[nodiscard]] const Stats& stats() const noexcept { return stats_; }
 
     /// Calls f(a, b) with a < b once for every overlapping pair of live objects.
@@ -142,11 +138,6 @@ public:
         }
         stats_.candidates = cand;
     }
-    [[nodiscard]] std::vector<ObjectPair> find_pairs() {
-        std::vector<ObjectPair> out;
-        for_each_pair([&](ObjectId a, ObjectId b) { out.push_back({a, b}); });
-        return out;
-    }
 
 private:
     struct Obj {
@@ -196,7 +187,6 @@ private:
         return (c > S(0) && std::isfinite(c) && S(1) / c > S(0) && std::isfinite(S(1) / c)) ? c : S(1);
     }
 
-    detail::ObjectSlots<S> slots_;
     S user_cell_;
     std::size_t max_cells_;
     std::vector<Obj> objs_;

@@ -11,7 +11,9 @@
 /// bound stays below the distance that triangle_distance computes for any triangle pair inside the boxes.
 
 #include "cdkit/bv/aabb.hpp"
+#include "cdkit/bv/detail/distance_rounding.hpp"
 #include "cdkit/bv/obb.hpp"
+#include "cdkit/bv/rss.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,23 +22,15 @@ namespace cdkit {
 
 namespace detail {
 
-/// Largest separating-axis gap of box A (axis-aligned in its frame, half extents a) and box B (half
-/// extents b, axes the columns of Rb, centre T, in A's frame), as a lower bound on their distance.
-/// `absRb` is |Rb| with slack (abs_with_slack); `slack` widens the radii (translation_slack).
-template <class S> [[nodiscard]] inline S lowered(S gap, const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& T) noexcept {
-    if (gap <= S(0)) return S(0);
-    // Rounding of T, the radii and the division: lower by a few ulps of the magnitudes involved.
-    const S mag = T.cwiseAbs().maxCoeff() + a.sum() + b.sum();
-    return std::max(S(0), gap * (S(1) - S(16) * std::numeric_limits<S>::epsilon()) -
-                              S(64) * std::numeric_limits<S>::epsilon() * mag);
-}
-
 /// The circumscribed spheres' gap |T| − |a| − |b| (lowered for rounding): the cheap first candidate.
 template <class S> [[nodiscard]] inline S sphere_gap_lower_bound(Vec3<S> a, const Vec3<S>& b, const Vec3<S>& T, S slack) noexcept {
     a = a + Vec3<S>::Constant(slack);
     return lowered(T.norm() - a.norm() - b.norm(), a, b, T);
 }
 
+/// Largest separating-axis gap of box A (axis-aligned in its frame, half extents a) and box B (half
+/// extents b, axes the columns of Rb, centre T, in A's frame), as a lower bound on their distance.
+/// `absRb` is |Rb| with slack (abs_with_slack); `slack` widens the radii (translation_slack).
 template <class S>
 [[nodiscard]] inline S box_gap_lower_bound(Vec3<S> a, const Vec3<S>& b, const Mat3<S>& Rb, const Mat3<S>& absRb,
                                            const Vec3<S>& T, S slack) noexcept {

@@ -61,13 +61,16 @@ template <class S> struct Obb {
         const auto& tri = mesh.triangles[t];
         const V p[3] = {mesh.vertices[tri[0]].template cast<double>(), mesh.vertices[tri[1]].template cast<double>(),
                         mesh.vertices[tri[2]].template cast<double>()};
-        const V n = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
-        if (!n.allFinite()) return std::nullopt;
+        // Eigen's normalized() leaves a zero vector as it is: test the lengths, not the results.
+        const V c = (p[1] - p[0]).cross(p[2] - p[0]);
+        if (!(c.squaredNorm() > 0) || !c.allFinite()) return std::nullopt;
+        const V n = c / c.norm();
         double best = std::numeric_limits<double>::infinity();
         V best_u = V::Zero();
         for (int i = 0; i < 3; ++i) {
-            const V u = (p[(i + 1) % 3] - p[i]).normalized();
-            if (!u.allFinite()) continue;
+            const V e = p[(i + 1) % 3] - p[i];
+            if (!(e.squaredNorm() > 0)) continue;
+            const V u = e / e.norm();
             const V v = n.cross(u);
             double lo_u = 0, hi_u = 0, lo_v = 0, hi_v = 0;  // relative to p[i]
             for (const V& q : p) {

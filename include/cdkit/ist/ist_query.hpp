@@ -4,7 +4,7 @@
 ///
 /// penetration_volume(): simultaneous descent of both trees (B's nodes carried into A's frame by the
 /// relative transform pose_a⁻¹·pose_b), pruning node pairs whose bounding spheres are disjoint, splitting
-/// the larger node. At two leaves the intersection (lens) volume of the two inner spheres is added. The
+/// the larger node, depth first with the deepest-overlapping children first. At two leaves the intersection (lens) volume of the two inner spheres is added. The
 /// penetration volume is Σ lens volumes over all overlapping inner-sphere pairs, which equals the volume
 /// of (∪ inner spheres of A) ∩ (∪ inner spheres of B) since the spheres of one object do not overlap.
 /// It underestimates the mesh intersection volume by the empty space of the packings; `calibrated` also
@@ -19,8 +19,13 @@
 ///
 /// sphere_distance(): branch and bound on |c_a − c_b| − r_a − r_b, nearer pairs first; the distance
 /// between the two inner sphere sets (≥ the meshes' distance, by at most the packings' gap at the
-/// surface), with closest points on the two spheres. ist_query() runs the volume traversal and, only
-/// when no inner spheres overlap, the distance traversal.
+/// surface), with closest points on the two spheres.
+///
+/// ist_query(): both in one simultaneous descent. It follows every pair of overlapping bounding spheres (the
+/// volume traversal, in the same order, so volume, calibrated volume and pairs are bit for bit those of
+/// penetration_volume()) and, while no inner spheres overlap yet, also the pairs whose distance bound beats
+/// the best inner-sphere distance so far (sphere_distance()'s pruning, nearest first); the first overlapping
+/// inner-sphere pair ends the distance search. With a node budget it falls back to the two traversals.
 ///
 /// All queries are const, thread-safe and noexcept apart from std::bad_alloc when collecting pairs.
 
@@ -101,11 +106,15 @@ struct IstDistanceResult {
                                                 const IstRequest& request = {});
 
 /// Combined query: the volume when the objects' inner spheres overlap, the distance when they are apart.
+/// Without a node budget: one descent (see the file comment), and `volume` and `distance` (when apart) both
+/// carry its counters in `stats`. With a budget: penetration_volume(), then sphere_distance() when no inner
+/// spheres overlap.
 struct IstQueryResult {
     QueryStatus status = QueryStatus::ok;
-    bool overlapping = false;
-    PenetrationVolumeResult volume;  ///< always run
-    IstDistanceResult distance;      ///< run only when !overlapping (distance stays 0 otherwise)
+    bool overlapping = false;        ///< some inner spheres overlap (volume > 0)
+    PenetrationVolumeResult volume;  ///< always filled
+    IstDistanceResult distance;      ///< filled only when !overlapping (distance 0 otherwise)
+    IstQueryStats stats;             ///< total work of the query
 };
 [[nodiscard]] IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose_a,
                                        const InnerSphereTree& b, const Transform<double>& pose_b,

@@ -98,6 +98,14 @@ public:
     [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept { return vertices_[support_index(d)]; }
     /// Index into vertices() of a vertex maximising d·x.
     [[nodiscard]] std::uint32_t support_index(const Vec3<S>& d) const noexcept {
+        return support_index(d, std::uint32_t(-1));
+    }
+    /// The same, hill climbing from the best of vertex `hint` and the six axis seeds (any index; one out of
+    /// range is ignored). With the previous answer of a coherent sequence of directions as the hint (last
+    /// frame's support vertex, or the previous GJK iteration's) the climb is zero or one step; the seeds keep
+    /// a poor hint (directions that jump, as in GJK's first iterations) from costing a long climb. A linear
+    /// function has no non-global local maximum on the vertex graph, so any start gives the same maximum.
+    [[nodiscard]] std::uint32_t support_index(const Vec3<S>& d, std::uint32_t hint) const noexcept {
         if (vertices_.size() <= brute_force_limit) return brute_force_index(d);
         std::uint32_t best = seeds_[0];
         S best_dot = d.dot(vertices_[best]);
@@ -105,16 +113,16 @@ public:
             S v = d.dot(vertices_[seeds_[k]]);
             if (v > best_dot) { best_dot = v; best = seeds_[k]; }
         }
-        // Climb to the best neighbour of the current vertex until none is better; each step strictly
-        // increases d·x, so it stops after at most |V| steps.
-        for (;;) {
-            const std::uint32_t from = best;
-            for (std::uint32_t e = offsets_[from]; e < offsets_[from + 1]; ++e) {
-                const S v = d.dot(vertices_[neighbours_[e]]);
-                if (v > best_dot) { best_dot = v; best = neighbours_[e]; }
-            }
-            if (best == from) return best;
+        if (hint < vertices_.size()) {
+            const S h = d.dot(vertices_[hint]);
+            if (h > best_dot) { best_dot = h; best = hint; }
         }
+        return climb(d, best, best_dot);
+    }
+    /// Support with a caller-kept start vertex, updated to the returned vertex (see support_index).
+    [[nodiscard]] Vec3<S> support(const Vec3<S>& d, std::uint32_t& hint) const noexcept {
+        hint = support_index(d, hint);
+        return vertices_[hint];
     }
     /// The vertex average (an interior point).
     [[nodiscard]] Vec3<S> center() const noexcept { return center_; }
@@ -231,6 +239,19 @@ private:
             vertex_begin_.push_back(std::uint32_t(vertex_edge_.size()));
         }
         topology_ok_ = ok;
+    }
+
+    /// Climbs to the best neighbour of the current vertex until none is better; each step strictly
+    /// increases d·x, so it stops after at most |V| steps.
+    [[nodiscard]] std::uint32_t climb(const Vec3<S>& d, std::uint32_t best, S best_dot) const noexcept {
+        for (;;) {
+            const std::uint32_t from = best;
+            for (std::uint32_t e = offsets_[from]; e < offsets_[from + 1]; ++e) {
+                const S v = d.dot(vertices_[neighbours_[e]]);
+                if (v > best_dot) { best_dot = v; best = neighbours_[e]; }
+            }
+            if (best == from) return best;
+        }
     }
 
     [[nodiscard]] std::uint32_t brute_force_index(const Vec3<S>& d) const noexcept {

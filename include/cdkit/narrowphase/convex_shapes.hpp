@@ -9,6 +9,7 @@
 #include <cdkit/narrowphase/support.hpp>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace cdkit {
@@ -22,8 +23,27 @@ template <class S> inline void check_size(S v, const char* shape, const char* wh
 template <class S> inline void check_point(const Vec3<S>& p, const char* shape, const char* what) {
     if (!p.allFinite()) throw Error(std::string("<") + shape + ">", what, "must be finite");
 }
+/// Checks the (value, name) pairs of a shape's sizes: all finite and ≥ 0.
+template <class S, class... Rest> inline void check_sizes(const char* shape, S v, const char* what, Rest... rest) {
+    check_size(v, shape, what);
+    if constexpr (sizeof...(Rest) > 0) check_sizes(shape, rest...);
+}
 /// ±1 with +1 for zero, so that a zero direction still picks a definite point of the shape.
 template <class S> [[nodiscard]] inline S sign_or_one(S v) noexcept { return v < S(0) ? S(-1) : S(1); }
+/// sqrt(x² + y²); std::hypot (a libm call, ~25 % of a cylinder support query) only where the squares
+/// would underflow or overflow.
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE S planar_norm(S x, S y) noexcept {
+    const S q = x * x + y * y;
+    if (q >= std::numeric_limits<S>::min() && q <= std::numeric_limits<S>::max()) return std::sqrt(q);
+    return std::hypot(x, y);
+}
+/// Support of the disc of radius r at height z (normal z) along d: its rim point towards (d_x, d_y), or the
+/// centre when d is axial (cylinder caps, the cone's base).
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> disc_support(const Vec3<S>& d, S r, S z) noexcept {
+    const S rho = planar_norm(d.x(), d.y());
+    if (!(rho > S(0))) return {S(0), S(0), z};
+    return {r * d.x() / rho, r * d.y() / rho, z};
+}
 }  // namespace detail
 
 /// A ball of radius `radius` around the origin: a point core with margin `radius`.
@@ -31,7 +51,7 @@ template <class S = double> struct Sphere {
     using Scalar = S;
     S radius;
     explicit Sphere(S r) : radius(r) { detail::check_size(r, "sphere", "radius"); }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         return radius * detail::safe_normalized(d);
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
@@ -44,9 +64,9 @@ template <class S = double> struct Box {
     using Scalar = S;
     Vec3<S> half;
     explicit Box(const Vec3<S>& half_extents) : half(half_extents) {
-        for (int i = 0; i < 3; ++i) detail::check_size(half[i], "box", "half extent");
+        detail::check_sizes("box", half[0], "half extent", half[1], "half extent", half[2], "half extent");
     }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         return {detail::sign_or_one(d.x()) * half.x(), detail::sign_or_one(d.y()) * half.y(),
                 detail::sign_or_one(d.z()) * half.z()};
     }
@@ -58,13 +78,12 @@ template <class S = double> struct Capsule {
     using Scalar = S;
     S radius, half_length;
     Capsule(S r, S half_len) : radius(r), half_length(half_len) {
-        detail::check_size(r, "capsule", "radius");
-        detail::check_size(half_len, "capsule", "half length");
+        detail::check_sizes("capsule", r, "radius", half_len, "half length");
     }
-    [[nodiscard]] Vec3<S> core_support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> core_support(const Vec3<S>& d) const noexcept {
         return {S(0), S(0), detail::sign_or_one(d.z()) * half_length};
     }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         return core_support(d) + radius * detail::safe_normalized(d);
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
@@ -76,14 +95,10 @@ template <class S = double> struct Cylinder {
     using Scalar = S;
     S radius, half_height;
     Cylinder(S r, S half_h) : radius(r), half_height(half_h) {
-        detail::check_size(r, "cylinder", "radius");
-        detail::check_size(half_h, "cylinder", "half height");
+        detail::check_sizes("cylinder", r, "radius", half_h, "half height");
     }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
-        S rho = std::hypot(d.x(), d.y());
-        Vec3<S> p(S(0), S(0), detail::sign_or_one(d.z()) * half_height);
-        if (rho > S(0)) { p.x() = radius * d.x() / rho; p.y() = radius * d.y() / rho; }
-        return p;
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
+        return detail::disc_support(d, radius, detail::sign_or_one(d.z()) * half_height);
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
 };
@@ -93,19 +108,15 @@ template <class S = double> struct Cone {
     using Scalar = S;
     S radius, half_height;
     Cone(S r, S half_h) : radius(r), half_height(half_h) {
-        detail::check_size(r, "cone", "radius");
-        detail::check_size(half_h, "cone", "half height");
+        detail::check_sizes("cone", r, "radius", half_h, "half height");
     }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         // The apex wins when d lies inside the cone of normals at the apex: d_z·|side| > r·|d| with the
         // side generator length |side| = sqrt(r² + (2h)²); compared without division.
-        S rho = std::hypot(d.x(), d.y());
-        S side = std::hypot(radius, S(2) * half_height);
-        if (d.z() * side > radius * d.norm() || (rho == S(0) && d.z() > S(0)))
-            return {S(0), S(0), half_height};
-        Vec3<S> p(S(0), S(0), -half_height);
-        if (rho > S(0)) { p.x() = radius * d.x() / rho; p.y() = radius * d.y() / rho; }
-        return p;
+        const S side = detail::planar_norm(radius, S(2) * half_height);
+        const bool axial_up = d.x() == S(0) && d.y() == S(0) && d.z() > S(0);
+        if (axial_up || d.z() * side > radius * d.norm()) return {S(0), S(0), half_height};
+        return detail::disc_support(d, radius, -half_height);
     }
     /// The centroid, a quarter of the height above the base.
     [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), -half_height / S(2)}; }
@@ -116,14 +127,15 @@ template <class S = double> struct Ellipsoid {
     using Scalar = S;
     Vec3<S> radii;
     explicit Ellipsoid(const Vec3<S>& r) : radii(r) {
-        for (int i = 0; i < 3; ++i) detail::check_size(r[i], "ellipsoid", "radius");
+        detail::check_sizes("ellipsoid", r[0], "radius", r[1], "radius", r[2], "radius");
     }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         // argmax d·x on x = D u, |u| = 1 is D (D d)/|D d| with D = diag(radii).
-        Vec3<S> dd = radii.cwiseProduct(d);
-        S n = dd.norm();
+        const Vec3<S> dd = radii.cwiseProduct(d);
+        const S n = dd.norm();
         if (!(n > S(0))) return {S(0), S(0), radii.z()};
-        return radii.cwiseProduct(dd) / n;
+        const S inv = S(1) / n;  // one division instead of three
+        return {radii.x() * dd.x() * inv, radii.y() * dd.y() * inv, radii.z() * dd.z() * inv};
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
 };
@@ -137,7 +149,7 @@ template <class S = double> struct ConvexTriangle {
         detail::check_point(b, "triangle", "vertex b");
         detail::check_point(c, "triangle", "vertex c");
     }
-    [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         S da = d.dot(a), db = d.dot(b), dc = d.dot(c);
         if (da >= db && da >= dc) return a;
         return db >= dc ? b : c;

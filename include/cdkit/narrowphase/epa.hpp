@@ -48,18 +48,22 @@ template <class S> struct PenetrationResult {
 
 namespace detail {
 
+/// A polytope face. No default member initialisers, on purpose: the polytope's 320 faces and the 320 fresh
+/// faces of every iteration were constructed (zeroed) on each query, ~30 KB of stores that cost more than
+/// the whole EPA on boxes; faces are only read once `epa_make_face` wrote them (index < nf). A face that
+/// must start out dead is value-initialised (`EpaFace<S> f{}`).
 template <class S> struct EpaFace {
-    std::array<int, 3> v{};
-    Vec3<S> n = Vec3<S>::Zero();
-    S dist = S(0);
-    bool alive = false;
+    std::array<int, 3> v;
+    Vec3<S> n;
+    S dist;
+    bool alive;
 };
 
 template <class S> struct EpaPolytope {
     static constexpr int max_vertices = 160;
     static constexpr int max_faces = 2 * max_vertices;  // Euler: F = 2V − 4 for a closed triangulation
-    std::array<GjkVertex<S>, max_vertices> vert{};
-    std::array<EpaFace<S>, max_faces> face{};
+    std::array<GjkVertex<S>, max_vertices> vert;          // only [0, nv) and [0, nf) are ever read
+    std::array<EpaFace<S>, max_faces> face;
     int nv = 0, nf = 0;
 };
 
@@ -259,7 +263,7 @@ inline PenetrationResult<typename A::Scalar> epa_stage(const A& a, const B& b, c
         return finish_flat(n, s.v[0].a, s.v[0].b);
     }
     EpaPolytope<S> P;
-    EpaFace<S> best;
+    EpaFace<S> best{};  // dead until epa_run finds a face
     GjkStatus es = epa_run<use_cores>(a, b, rel, s, settings, size, best, P, r.epa_iterations);
     if (es == GjkStatus::touching || !best.alive || !best.n.allFinite()) {
         if (es == GjkStatus::touching) return finish_flat(Vec3<S>::UnitX(), s.v[0].a, s.v[0].b);

@@ -22,6 +22,13 @@
 /// the first one included; the warm start rebuilds the last simplex from its stored support points without
 /// support queries (they are points of the shapes, so all bounds stay certified).
 ///
+/// Accuracy on curved shapes: near contact the support points cluster and the triangle step meets slivers
+/// whose rounded normal can put v below the simplex (|v| then under-estimates the distance and the gap test
+/// passes early); distance queries estimate that rounding and redo such steps in a wider type (`wider_t`),
+/// as do the "no progress" and "repeated vertex" exits. Per-call cost: no zero-filled result, rotations and
+/// vector arithmetic written out (they were out-of-line Eigen calls at -O2), hill-climbing hints for polyhedra
+/// kept per query and, in the cache, per pair.
+///
 /// All queries are noexcept, const on their inputs and thread-safe; the only mutable state is the
 /// caller-owned `GjkCache`.
 
@@ -31,7 +38,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace cdkit {
 
@@ -71,6 +80,9 @@ template <class S = double> struct GjkCache {
     std::array<Vec3<S>, 4> point_a{}, point_b{};  ///< core support points, local frames of A and B
     const void* shape_a = nullptr;                ///< the shapes the points belong to
     const void* shape_b = nullptr;
+    /// Start vertices for shapes with a hinted support query (`HintedSupport`: polyhedra), last frame's
+    /// support vertices; they only shorten the hill climbing, any value is safe.
+    std::uint32_t hint_a = std::uint32_t(-1), hint_b = std::uint32_t(-1);
 };
 
 /// One simplex vertex: w = a − b with a ∈ A, b ∈ B, found as the support of A − B along d
@@ -82,9 +94,12 @@ template <class S> struct GjkVertex {
 
 /// The simplex GJK ended with, its barycentric weights and size (1..4), in A's local frame.
 template <class S> struct GjkSimplex {
-    std::array<GjkVertex<S>, 4> v{};
+    std::array<GjkVertex<S>, 4> v;  ///< only the first `size` are meaningful
     std::array<S, 4> lambda{};
     int size = 0;
+    /// User-provided so that `GjkSimplex{}` (and every GjkResult) does not zero the 480 bytes of vertices:
+    /// that memset was a quarter of a one-iteration boolean query.
+    GjkSimplex() noexcept {}
 };
 
 /// Result of `gjk_distance` / `gjk_intersect`.
@@ -272,30 +287,86 @@ public:
 };
 
 /// Support of D = A − B on the cores (or full shapes when `use_cores` is false), in A's frame;
-/// `rel` maps B's frame into A's.
+/// `rel` maps B's frame into A's. `hints` (optional): start vertices {A, B} for `HintedSupport` shapes.
 template <bool use_cores, SupportMapped A, SupportMapped B>
-inline GjkVertex<typename A::Scalar> minkowski_support(const A& a, const B& b,
-                                                     const Transform<typename A::Scalar>& rel,
-                                                     const Vec3<typename A::Scalar>& d) noexcept {
+CDKIT_ALWAYS_INLINE void minkowski_support_into(GjkVertex<typename A::Scalar>& x, const A& a, const B& b,
+                                                const Transform<typename A::Scalar>& rel,
+                                                const Vec3<typename A::Scalar>& d,
+                                                std::uint32_t* hints = nullptr) noexcept {
     using S = typename A::Scalar;
-    GjkVertex<S> x;
-    Vec3<S> db = -(rel.R.transpose() * d);
+    const Vec3<S> db = -rotate_back(rel.R, d);
     if constexpr (use_cores) {
-        x.a = core_support(a, d);
-        x.b_local = core_support(b, db);
+        x.a = core_support_hinted(a, d, hints);
+        x.b_local = core_support_hinted(b, db, hints ? hints + 1 : nullptr);
     } else {
         x.a = a.support(d);
         x.b_local = b.support(db);
     }
-    x.b = rel * x.b_local;
-    x.w = x.a - x.b;
+    x.b = place(rel, x.b_local);
+    x.w = minus(x.a, x.b);
     x.d = d;
+}
+/// The same, returned by value.
+template <bool use_cores, SupportMapped A, SupportMapped B>
+CDKIT_ALWAYS_INLINE GjkVertex<typename A::Scalar> minkowski_support(const A& a, const B& b,
+                                                                    const Transform<typename A::Scalar>& rel,
+                                                                    const Vec3<typename A::Scalar>& d,
+                                                                    std::uint32_t* hints = nullptr) noexcept {
+    GjkVertex<typename A::Scalar> x;
+    minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
     return x;
+}
+
+/// A wider floating type for the rare refinement step (float → double, double → long double).
+template <class S> using wider_t =
+    std::conditional_t<std::is_same_v<S, float>, double, std::conditional_t<std::is_same_v<S, double>, long double, S>>;
+
+/// Rounding of the triangle step's closest point v on triangle s.v[idx[0..2]]: the computed normal tilts by
+/// about ε·|ab|·|ac|/|ab × ac| (ε over the sine of the angle at a), which moves the projection by that
+/// angle times the lever arm, the farthest vertex from v.
+template <class S> [[nodiscard]] inline S triangle_rounding(const GjkSimplex<S>& s, const std::array<int, 4>& idx,
+                                                            const Vec3<S>& v) noexcept {
+    const Vec3<S>& a = s.v[std::size_t(idx[0])].w;
+    const Vec3<S>& b = s.v[std::size_t(idx[1])].w;
+    const Vec3<S>& c = s.v[std::size_t(idx[2])].w;
+    const Vec3<S> ab = b - a, ac = c - a;
+    const S nn = ab.cross(ac).squaredNorm();
+    if (!(nn > S(0))) return std::numeric_limits<S>::infinity();
+    const S lever2 = std::max({(a - v).squaredNorm(), (b - v).squaredNorm(), (c - v).squaredNorm()});
+    return std::numeric_limits<S>::epsilon() * std::sqrt(ab.squaredNorm() * ac.squaredNorm() * lever2 / nn);
+}
+
+/// The sub-simplex step on the first `n + 1` vertices of `s`, in `wider_t<S>`. With `always` false: true
+/// (and `sel` set) when that step's closest point is strictly nearer than the one of the first `n` vertices,
+/// both in the wide type. With `always` true: `sel` is the step's selection whenever it is not "inside".
+template <class S> inline bool refine_step(const GjkSimplex<S>& s, int n, SimplexSelection<S>& sel,
+                                           bool always = false) noexcept {
+    using W = wider_t<S>;
+    GjkSimplex<W> ws;
+    for (int i = 0; i <= n; ++i) ws.v[std::size_t(i)].w = s.v[std::size_t(i)].w.template cast<W>();
+    SimplexSelection<W> full, prev;
+    ws.size = n + 1;
+    SimplexSolver<W>::select(ws, full);
+    if (full.inside || !full.v.allFinite()) return false;
+    if (!always) {
+        ws.size = n;
+        SimplexSolver<W>::select(ws, prev);
+        if (!(full.v.squaredNorm() < prev.v.squaredNorm())) return false;
+    }
+    sel.inside = false;
+    sel.size = full.size;
+    for (int k = 0; k < full.size; ++k) {
+        sel.idx[std::size_t(k)] = full.idx[std::size_t(k)];
+        sel.lambda[std::size_t(k)] = S(full.lambda[std::size_t(k)]);
+    }
+    sel.v = full.v.template cast<S>();
+    return true;
 }
 
 /// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0 enables the boolean early exit: stop as
 /// soon as a plane proves the core distance exceeds it. Returns the status on the cores; `v` is the
-/// final closest point, `size` the largest |w| seen (the scale for tolerances).
+/// final closest point, `size_out` the largest |w| seen (the scale for tolerances), `lower_out` the best
+/// separating-plane bound the boolean test found (0 for distance queries, which do not need it).
 ///
 /// The boolean exit tests every support point, the very first one and the warm start's included: for any
 /// direction u, w = s_D(−u) minimises u·x over D, so u·w/|u| > 0 is a separating plane whether or not u is
@@ -305,18 +376,30 @@ template <bool use_cores, SupportMapped A, SupportMapped B>
 inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
                           const GjkSettings<typename A::Scalar>& settings, GjkCache<typename A::Scalar>* cache,
                           bool boolean, typename A::Scalar early_exit_margin, GjkSimplex<typename A::Scalar>& s,
-                          Vec3<typename A::Scalar>& v, typename A::Scalar& size, int& iterations,
-                          typename A::Scalar& lower_bound, typename A::Scalar exit_quality = 0,
+                          Vec3<typename A::Scalar>& v, typename A::Scalar& size_out, int& iterations,
+                          typename A::Scalar& lower_out, typename A::Scalar exit_quality = 0,
                           GjkVertex<typename A::Scalar>* exit_support = nullptr,
                           bool retry_cached_direction = true) noexcept {
     using S = typename A::Scalar;
     using Solver = SimplexSolver<S>;
     const S eps = std::numeric_limits<S>::epsilon();
-    v = Vec3<S>(Vec3<S>(a.center()) - rel * Vec3<S>(b.center()));
+    v = Vec3<S>(Vec3<S>(a.center()) - place(rel, Vec3<S>(b.center())));
     if (!(v.squaredNorm() > S(0)) || !v.allFinite()) v = Vec3<S>::UnitX();
     s.size = 0;
-    size = S(0);
-    lower_bound = S(0);
+    // Locals, written out on return: as reference parameters they were reloaded after every store through
+    // the simplex (possible aliasing), putting a sqrt/division latency on each iteration's critical path.
+    // size2: the largest |w|² seen (tolerances scale with its root, taken only where needed: a sqrt per
+    // iteration on the path to the next support query showed in the profile).
+    S size2 = S(0), lower_bound = S(0);
+    // Hill-climbing starts for polyhedra: each support query starts at the previous one's vertex (under
+    // coherence last frame's, from the cache), instead of the hull's fixed seeds.
+    std::uint32_t hints[2] = {cache ? cache->hint_a : std::uint32_t(-1), cache ? cache->hint_b : std::uint32_t(-1)};
+    auto done = [&](GjkStatus st) {
+        size_out = std::sqrt(size2);
+        lower_out = lower_bound;
+        if (cache) { cache->hint_a = hints[0]; cache->hint_b = hints[1]; }
+        return st;
+    };
     iterations = 0;
     S vv = std::numeric_limits<S>::infinity();
     GjkStatus status = GjkStatus::max_iterations;
@@ -325,10 +408,15 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     // times the upper bound |v| − margin, so the direction cached for the next frame keeps a margin under
     // coherent motion instead of barely separating (the cached-direction test itself is exempt).
     auto separates = [&](const Vec3<S>& u, const GjkVertex<S>& x, bool check_quality) {
+        const S uw = u.dot(x.w);
+        // No positive plane now and none before: nothing to test (skips the sqrt and division on the
+        // iterations that do not separate).
+        if (!(uw > S(0)) && !(lower_bound > S(0))) return false;
         const S un = u.norm();
         if (!(un > S(0))) return false;
-        lower_bound = std::max(lower_bound, u.dot(x.w) / un);
+        lower_bound = std::max(lower_bound, uw / un);
         // Same threshold as gjk_query applies to the early exit.
+        const S size = std::sqrt(size2);
         if (!(boolean &&
               lower_bound > early_exit_margin + settings.touch_factor * eps * std::max(size, early_exit_margin)))
             return false;
@@ -360,27 +448,27 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             if (boolean && i == 0 && retry_cached_direction) {
                 // Boolean: first the direction cached first (the last separating one) with a fresh support
                 // pair; under coherent motion it usually still separates, which settles the query.
-                x = minkowski_support<use_cores>(a, b, rel, cache->directions[0]);
+                x = minkowski_support<use_cores>(a, b, rel, cache->directions[0], hints);
                 if (!x.w.allFinite()) continue;
-                size = std::max(size, x.w.norm());
+                size2 = std::max(size2, x.w.squaredNorm());
                 if (separates(Vec3<S>(-x.d), x, false)) {
                     v = -x.d;
                     s.size = 0;
                     if (exit_support) *exit_support = x;
-                    return GjkStatus::separated;
+                    return done(GjkStatus::separated);
                 }
             } else if (same) {
                 // The stored support points under the new poses: points of D, no support query.
                 x.a = cache->point_a[std::size_t(i)];
                 x.b_local = cache->point_b[std::size_t(i)];
-                x.b = rel * x.b_local;
+                x.b = place(rel, x.b_local);
                 x.w = x.a - x.b;
                 x.d = cache->directions[std::size_t(i)];
             } else {
-                x = minkowski_support<use_cores>(a, b, rel, cache->directions[std::size_t(i)]);
+                x = minkowski_support<use_cores>(a, b, rel, cache->directions[std::size_t(i)], hints);
             }
             if (!x.w.allFinite()) continue;
-            size = std::max(size, x.w.norm());
+            size2 = std::max(size2, x.w.squaredNorm());
             bool dup = false;
             for (int j = 0; j < s.size; ++j) dup = dup || s.v[std::size_t(j)].w == x.w;
             if (!dup) s.v[std::size_t(s.size++)] = x;
@@ -391,7 +479,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
                 // Four points of D around the origin: overlap, without a support query when reused.
                 v.setZero();
                 store(nullptr);
-                return GjkStatus::intersecting;
+                return done(GjkStatus::intersecting);
             }
             Solver::apply(s, sel);
             v = sel.v;
@@ -399,43 +487,92 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             if (!(vv > S(0))) { s.size = 0; vv = std::numeric_limits<S>::infinity(); v = Vec3<S>::UnitX(); }
         }
     }
+    int refinements = 0;
     for (int it = 0; it < settings.max_iterations; ++it) {
         iterations = it + 1;
         const Vec3<S> d = -v;
-        GjkVertex<S> x = minkowski_support<use_cores>(a, b, rel, d);
-        if (!x.w.allFinite()) { status = GjkStatus::degenerate; break; }
-        size = std::max(size, x.w.norm());
-        const S tiny = settings.touch_factor * eps * size;
+        // Written straight into the simplex's free slot (s.size ≤ 3 here); it joins the simplex by ++s.size.
+        GjkVertex<S>& x = s.v[std::size_t(s.size)];
+        minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
+        if (!all_finite(x.w)) { status = GjkStatus::degenerate; break; }
+        size2 = std::max(size2, x.w.squaredNorm());
+        const S tiny2 = settings.touch_factor * settings.touch_factor * eps * eps * size2;  // (256·ε·size)²
         if (boolean && separates(v, x, true)) {
             status = GjkStatus::separated;
             if (exit_support) *exit_support = x;
             store(&x);
-            return status;
+            return done(status);
         }
         if (s.size > 0) {
-            const S vn = std::sqrt(vv);
+            // v·w/|v| is a lower bound on the distance (the plane through w orthogonal to v supports D; the
+            // boolean test above already kept it). Converged: the gap between upper bound |v| and the lower
+            // bound is within tolerance (the ε·|v|·size term is the rounding floor of v·w).
             const S vw = v.dot(x.w);
-            // v·w/|v| is a lower bound on the distance (the plane through w orthogonal to v supports D).
-            lower_bound = std::max(lower_bound, vw / vn);
-            // Converged: the gap between upper bound |v| and the lower bound is within tolerance (the
-            // ε·|v|·size term is the rounding floor of v·w).
-            if (vv - vw <= settings.rel_tolerance * vv + S(16) * eps * vn * size) {
+            // gap ≤ ε_rel·|v|² + 16·ε·|v|·size, compared in squares (no sqrt per iteration).
+            const S excess = vv - vw - settings.rel_tolerance * vv;
+            if (excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2) {
                 status = GjkStatus::separated;
                 break;
             }
             bool duplicate = false;
             for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.v[std::size_t(i)].w == x.w;
-            if (duplicate) { status = GjkStatus::separated; break; }
+            if (duplicate) {
+                // The support point is already in the simplex: in exact arithmetic v is optimal. When the
+                // gap test failed, v may be off by the sub-simplex step's rounding (see below): recompute it
+                // in the wider type and, if it moved, query again from there.
+                if constexpr (!std::is_same_v<S, wider_t<S>>) {
+                    if (refinements < 8 && s.size > 1) {
+                        ++refinements;
+                        if (refine_step(s, s.size - 1, sel, true) && sel.v != v) {
+                            Solver::apply(s, sel);
+                            v = sel.v;
+                            vv = v.squaredNorm();
+                            continue;
+                        }
+                    }
+                }
+                status = GjkStatus::separated;
+                break;
+            }
         }
-        const int old_size = s.size;
-        s.v[std::size_t(s.size++)] = x;
+        const int old_size = s.size++;
         Solver::select(s, sel);
+        if constexpr (!std::is_same_v<S, wider_t<S>>) {
+            // A distance query must not trust a triangle step whose normal rounding (ε over the sine of the
+            // triangle's angle, times the lever arm) exceeds a tenth of the tolerance: on curved surfaces the
+            // support points cluster into slivers, and the step then puts v *below* the simplex — |v| is no
+            // longer an upper bound and the gap test passes short of the distance (issue 5: up to 7e-7
+            // relative on close cones). Redo that step in the wider type (x87 long double for double).
+            if (!boolean && !sel.inside && sel.size == 3 &&
+                triangle_rounding(s, sel.idx, sel.v) > S(0.1) * settings.rel_tolerance * sel.v.norm())
+                refine_step(s, s.size - 1, sel, true);
+        }
         if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
         const S nvv = sel.v.squaredNorm();
         if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
-        if (nvv <= tiny * tiny) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
+        if (nvv <= tiny2) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
         if (old_size > 0 && !(nvv < vv)) {
-            // No progress: rounding floor reached; keep the better previous simplex (untouched by select).
+            // No progress. On curved shapes the support points cluster and the sub-simplex step loses
+            // accuracy before the gap test is met (a sliver triangle's normal is rounding noise: issue 5 found
+            // |v| up to 1e-7 relative *below* the distance). Redo this step and the previous simplex's in a
+            // wider type: if the new point does make progress, continue; otherwise stop with the previous
+            // simplex's accurate closest point. Rare (only at this exit), so the wider arithmetic is cheap.
+            if constexpr (!std::is_same_v<S, wider_t<S>>) {
+                if (refinements < 8) {
+                    ++refinements;
+                    if (refine_step(s, old_size, sel)) {
+                        Solver::apply(s, sel);
+                        v = sel.v;
+                        vv = v.squaredNorm();
+                        continue;
+                    }
+                    s.size = old_size;
+                    if (refine_step(s, old_size - 1, sel, true)) { Solver::apply(s, sel); v = sel.v; }
+                    status = GjkStatus::separated;
+                    break;
+                }
+            }
+            // Rounding floor reached; keep the better previous simplex (untouched by select).
             s.size = old_size;
             status = GjkStatus::separated;
             break;
@@ -445,7 +582,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         vv = nvv;
     }
     store(nullptr);
-    return status;
+    return done(status);
 }
 
 template <SupportMapped A, SupportMapped B>
@@ -455,7 +592,7 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
                                                const GjkSettings<typename A::Scalar>& settings,
                                                bool boolean, bool retry_cached_direction = true) noexcept {
     using S = typename A::Scalar;
-    const Transform<S> rel = pose_a.inverse() * pose_b;
+    const Transform<S> rel = relative_pose(pose_a, pose_b);
     const S margin = margin_of(a) + margin_of(b);
     GjkResult<S> r;
     Vec3<S> v;
@@ -472,11 +609,11 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
         const S vn = v.norm();
         if (vn > S(0)) {
             const Vec3<S> n = -v / vn;
-            r.normal = pose_a.R * n;  // a separating direction, A towards B
+            r.normal = rotate(pose_a.R, n);  // a separating direction, A towards B
             if (sep.w.allFinite()) {
                 // The supporting points of that plane: A's extreme towards B and B's towards A.
-                r.point_a = pose_a * Vec3<S>(sep.a + margin_of(a) * n);
-                r.point_b = pose_a * Vec3<S>(sep.b - margin_of(b) * n);
+                r.point_a = place(pose_a, Vec3<S>(sep.a + margin_of(a) * n));
+                r.point_b = place(pose_a, Vec3<S>(sep.b - margin_of(b) * n));
             }
         }
         return r;
@@ -497,9 +634,9 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
     pa += margin_of(a) * n;
     pb -= margin_of(b) * n;
     S dist = core - margin;
-    r.point_a = pose_a * pa;
-    r.point_b = pose_a * pb;
-    r.normal = pose_a.R * n;
+    r.point_a = place(pose_a, pa);
+    r.point_b = place(pose_a, pb);
+    r.normal = rotate(pose_a.R, n);
     if (st == GjkStatus::max_iterations || st == GjkStatus::degenerate) {
         r.status = st;
         r.distance = std::max(dist, S(0));

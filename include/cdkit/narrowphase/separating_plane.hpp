@@ -73,8 +73,13 @@ template <SupportMapped A, SupportMapped B>
         n /= nn;
         c /= nn;
         // Most offending points: the lowest point of A and the highest point of B along n (local frame).
-        Vec3<S> p = (ta.support(Vec3<S>(-n)) - o) / len;
-        Vec3<S> q = (tb.support(n) - o) / len;
+        // Hill climbing (polyhedra) starts from the vertices of the last query on this pair (GJK's hints).
+        const Vec3<S> pw = detail::place(
+            pose_a, detail::support_hinted(a, detail::rotate_back(pose_a.R, Vec3<S>(-n)), &cache.gjk.hint_a));
+        const Vec3<S> qw =
+            detail::place(pose_b, detail::support_hinted(b, detail::rotate_back(pose_b.R, n), &cache.gjk.hint_b));
+        Vec3<S> p = (pw - o) / len;
+        Vec3<S> q = (qw - o) / len;
         S sp = n.dot(p) + c, sq = n.dot(q) + c;
         if (n.dot(p - q) > S(0)) {
             // n separates the supports (all of A is at or above p, all of B at or below q): the plane

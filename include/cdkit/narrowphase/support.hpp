@@ -14,6 +14,15 @@
 
 #include <cmath>
 #include <concepts>
+#include <cstdint>
+
+/// Forces inlining of the few-flop helpers on GJK's per-iteration path (support maps, rotations): at -O2
+/// GCC kept several of them out of line, and the call overhead was a measurable share of a query.
+#if defined(__GNUC__) || defined(__clang__)
+#define CDKIT_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define CDKIT_ALWAYS_INLINE inline
+#endif
 
 namespace cdkit {
 
@@ -36,7 +45,52 @@ concept HasMargin = SupportMapped<T> && requires(const T& s, const Vec3<typename
     { s.core_support(d) } -> std::convertible_to<Vec3<typename T::Scalar>>;
 };
 
+/// A shape whose support query can start from a caller-kept hint (a vertex index of a polyhedron) that it
+/// updates to the answer: `support(d, hint)`. GJK keeps one hint per shape during a query and, with a
+/// `GjkCache`, across frames; the answer never depends on the hint, only the work does.
+template <class T>
+concept HintedSupport = SupportMapped<T> && requires(const T& s, const Vec3<typename T::Scalar>& d, std::uint32_t& h) {
+    { s.support(d, h) } -> std::convertible_to<Vec3<typename T::Scalar>>;
+};
+
 namespace detail {
+/// R·v, R^T·v and R·p + t written out per component. Eigen's generic 3×3 product is not always inlined at
+/// -O2 (the profile of issue 5 showed `generic_product_impl::evalTo` as an out-of-line call taking ~10 % of a
+/// one-iteration GJK query); these are, and a support query on a placed shape needs two of them.
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> rotate(const Mat3<S>& R, const Vec3<S>& v) noexcept {
+    return Vec3<S>(R(0, 0) * v[0] + R(0, 1) * v[1] + R(0, 2) * v[2], R(1, 0) * v[0] + R(1, 1) * v[1] + R(1, 2) * v[2],
+                   R(2, 0) * v[0] + R(2, 1) * v[1] + R(2, 2) * v[2]);
+}
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> rotate_back(const Mat3<S>& R, const Vec3<S>& v) noexcept {
+    return Vec3<S>(R(0, 0) * v[0] + R(1, 0) * v[1] + R(2, 0) * v[2], R(0, 1) * v[0] + R(1, 1) * v[1] + R(2, 1) * v[2],
+                   R(0, 2) * v[0] + R(1, 2) * v[1] + R(2, 2) * v[2]);
+}
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> place(const Transform<S>& pose, const Vec3<S>& p) noexcept {
+    const Mat3<S>& R = pose.R;
+    return Vec3<S>(R(0, 0) * p[0] + R(0, 1) * p[1] + R(0, 2) * p[2] + pose.t[0],
+                   R(1, 0) * p[0] + R(1, 1) * p[1] + R(1, 2) * p[2] + pose.t[1],
+                   R(2, 0) * p[0] + R(2, 1) * p[1] + R(2, 2) * p[2] + pose.t[2]);
+}
+/// a − b per component (Eigen's expression for it was an out-of-line call in the GJK profile).
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> minus(const Vec3<S>& a, const Vec3<S>& b) noexcept {
+    return Vec3<S>(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+/// All three components finite (x·0 is 0 for finite x and NaN for ±inf or NaN; no overflow), one branch.
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE bool all_finite(const Vec3<S>& v) noexcept {
+    return v[0] * S(0) + v[1] * S(0) + v[2] * S(0) == S(0);
+}
+/// pose_a⁻¹·pose_b (B's frame into A's) without temporaries: R = R_aᵀR_b, t = R_aᵀ(t_b − t_a).
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Transform<S> relative_pose(const Transform<S>& pose_a,
+                                                                   const Transform<S>& pose_b) noexcept {
+    Transform<S> r;
+    for (int j = 0; j < 3; ++j) {
+        const Vec3<S> c = rotate_back(pose_a.R, Vec3<S>(pose_b.R.col(j)));
+        r.R(0, j) = c[0]; r.R(1, j) = c[1]; r.R(2, j) = c[2];
+    }
+    r.t = rotate_back(pose_a.R, Vec3<S>(pose_b.t - pose_a.t));
+    return r;
+}
+
 /// d/|d|, or zero when d is zero (a zero direction then adds nothing to an inflated support point).
 template <class S> [[nodiscard]] inline Vec3<S> safe_normalized(const Vec3<S>& d) noexcept {
     S n = d.norm();
@@ -44,10 +98,28 @@ template <class S> [[nodiscard]] inline Vec3<S> safe_normalized(const Vec3<S>& d
 }
 
 /// The core support of a shape (its full support when it has no margin) and its margin.
-template <SupportMapped T> [[nodiscard]] inline Vec3<typename T::Scalar> core_support(
+template <SupportMapped T> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<typename T::Scalar> core_support(
     const T& s, const Vec3<typename T::Scalar>& d) noexcept {
     if constexpr (HasMargin<T>) return s.core_support(d);
     else return s.support(d);
+}
+/// Core support (as `core_support`) through the shape's hinted query where it has one and `hint` is given.
+template <SupportMapped T> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<typename T::Scalar> core_support_hinted(
+    const T& s, const Vec3<typename T::Scalar>& d, std::uint32_t* hint) noexcept {
+    if constexpr (HintedSupport<T> && !HasMargin<T>) {
+        if (hint) return s.support(d, *hint);
+    }
+    (void)hint;
+    return core_support(s, d);
+}
+/// Full support through the shape's hinted query where it has one (`hint` non-null), else `support(d)`.
+template <SupportMapped T> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<typename T::Scalar> support_hinted(
+    const T& s, const Vec3<typename T::Scalar>& d, std::uint32_t* hint) noexcept {
+    if constexpr (HintedSupport<T>) {
+        if (hint) return s.support(d, *hint);
+    }
+    (void)hint;
+    return s.support(d);
 }
 template <SupportMapped T> [[nodiscard]] inline typename T::Scalar margin_of(const T& s) noexcept {
     if constexpr (HasMargin<T>) return s.margin();
@@ -63,12 +135,12 @@ template <SupportMapped Shape> struct Transformed {
     Transform<Scalar> pose;
 
     [[nodiscard]] Vec3<Scalar> support(const Vec3<Scalar>& d) const noexcept {
-        return pose * Vec3<Scalar>(shape.support(pose.R.transpose() * d));
+        return detail::place(pose, Vec3<Scalar>(shape.support(detail::rotate_back(pose.R, d))));
     }
-    [[nodiscard]] Vec3<Scalar> center() const noexcept { return pose * Vec3<Scalar>(shape.center()); }
+    [[nodiscard]] Vec3<Scalar> center() const noexcept { return detail::place(pose, Vec3<Scalar>(shape.center())); }
     [[nodiscard]] Scalar margin() const noexcept { return detail::margin_of(shape); }
     [[nodiscard]] Vec3<Scalar> core_support(const Vec3<Scalar>& d) const noexcept {
-        return pose * Vec3<Scalar>(detail::core_support(shape, Vec3<Scalar>(pose.R.transpose() * d)));
+        return detail::place(pose, Vec3<Scalar>(detail::core_support(shape, detail::rotate_back(pose.R, d))));
     }
 };
 

@@ -17,6 +17,7 @@
 #include "cdkit/broadphase/brute_force.hpp"
 #include "cdkit/broadphase/dynamic_aabb_tree.hpp"
 #include "cdkit/broadphase/interest_matrix.hpp"
+#include "cdkit/broadphase/sorted_cell_grid.hpp"
 #include "cdkit/broadphase/sweep_and_prune.hpp"
 #include "cdkit/broadphase/uniform_grid.hpp"
 #include "cdkit/world/narrow_phase.hpp"
@@ -32,7 +33,7 @@
 namespace cdkit {
 
 /// The broad phase a World uses (docs/broadphase.md: how to choose).
-enum class BroadPhaseKind { dynamic_aabb_tree, sweep_and_prune, uniform_grid, brute_force };
+enum class BroadPhaseKind { dynamic_aabb_tree, sweep_and_prune, uniform_grid, brute_force, sorted_cell_grid };
 
 struct WorldOptions {
     BroadPhaseKind broad_phase = BroadPhaseKind::dynamic_aabb_tree;
@@ -66,6 +67,7 @@ public:
             case BroadPhaseKind::sweep_and_prune: bp_.template emplace<SweepAndPrune<S>>(); break;
             case BroadPhaseKind::uniform_grid: bp_.template emplace<UniformGrid<S>>(); break;
             case BroadPhaseKind::brute_force: bp_.template emplace<BruteForceBroadPhase<S>>(); break;
+            case BroadPhaseKind::sorted_cell_grid: bp_.template emplace<SortedCellGrid<S>>(); break;
         }
         interest_.on_begin = [this](ObjectPair p, GjkCache<S>& c) { candidates_.push_back({p, &c}); };
         interest_.on_persist = interest_.on_begin;
@@ -180,7 +182,7 @@ private:
     }
 
     WorldOptions options_;
-    std::variant<DynamicAabbTree<S>, SweepAndPrune<S>, UniformGrid<S>, BruteForceBroadPhase<S>> bp_;
+    std::variant<DynamicAabbTree<S>, SweepAndPrune<S>, UniformGrid<S>, BruteForceBroadPhase<S>, SortedCellGrid<S>> bp_;
     InterestMatrix<GjkCache<S>> interest_;
     std::vector<Object> objects_;
     std::vector<Candidate> candidates_;
