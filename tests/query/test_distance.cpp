@@ -253,7 +253,8 @@ TEMPLATE_TEST_CASE("distance over float BVs on double meshes and SAH-built RSS t
     std::mt19937_64 rng(4242);
     int separated = 0, total = 0;
     // Ordinary scale, far from the origin, tiny: the float bounds must stay below the double distances.
-    for (const auto& [scale, offset] : {std::pair{1.0, 0.0}, std::pair{1.0, 1e5}, std::pair{1e-5, 1.0}}) {
+    for (const auto& scale_offset : {std::pair{1.0, 0.0}, std::pair{1.0, 1e5}, std::pair{1e-5, 1.0}}) {
+        const double scale = scale_offset.first, offset = scale_offset.second;  // (lambdas cannot capture bindings in clang 14)
         auto moved = [&](TriangleMesh<double> m) {
             for (auto& v : m.vertices) v = v * scale + Vec3<double>::Constant(offset);
             return m;

@@ -10,8 +10,8 @@
 /// - Obb: each node keeps its axes (from the original PCA) and gets new extents from its triangles' vertices
 ///   in that frame — inner nodes too, in O(n log n): a box around the children's boxes, in axes turned
 ///   against theirs, bulges at every level (measured: 4.6× the built tree's summed surface area on a sphere
-///   and 11.5× on the bunny with no deformation at all). With unmoved vertices a double tree gets its built boxes back;
-///   after a deformation the axes no longer follow the shape: looser than a fresh fit.
+///   and 11.5× on the bunny with no deformation at all). With unmoved vertices a double tree gets its built
+///   boxes back; after a deformation the axes no longer follow the shape: looser than a fresh fit.
 ///
 /// `degradation()` measures what the refit costs: Σ node surface area / the surface area of a fresh fit of the
 /// whole mesh, relative to the same ratio of the tree that was built (scale invariant); `should_rebuild`
@@ -105,7 +105,8 @@ template <class BV, class M> void refit(Bvh<BV>& bvh, const TriangleMesh<M>& mes
             const auto& n = nodes[i];
             span[i] = n.is_leaf() ? std::pair{n.first, n.first + n.count}
                                   : std::pair{span[n.first].first, span[n.first + 1].second};
-            bvh.set_volume(i, detail::refit_leaf(n.bv, mesh, TriangleRange(order.data() + span[i].first, span[i].second - span[i].first)));
+            const TriangleRange tris(order.data() + span[i].first, span[i].second - span[i].first);
+            bvh.set_volume(i, detail::refit_leaf(n.bv, mesh, tris));
         }
     } else {
         for (std::size_t i = nodes.size(); i-- > 0;) {

@@ -363,8 +363,9 @@ template <class S> inline bool refine_step(const GjkSimplex<S>& s, int n, Simple
     return true;
 }
 
-/// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0 enables the boolean early exit: stop as
-/// soon as a plane proves the core distance exceeds it. Returns the status on the cores; `v` is the
+/// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0, the shapes' summed margins, enables the boolean
+/// early exit (stop as soon as a plane proves the core distance exceeds it) and sets the distance tolerance
+/// relative to the distance the caller gets (core distance − margin). Returns the status on the cores; `v` is the
 /// final closest point, `size_out` the largest |w| seen (the scale for tolerances), `lower_out` the best
 /// separating-plane bound the boolean test found (0 for distance queries, which do not need it).
 ///
@@ -508,8 +509,17 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             // boolean test above already kept it). Converged: the gap between upper bound |v| and the lower
             // bound is within tolerance (the ε·|v|·size term is the rounding floor of v·w).
             const S vw = v.dot(x.w);
-            // gap ≤ ε_rel·|v|² + 16·ε·|v|·size, compared in squares (no sqrt per iteration).
-            const S excess = vv - vw - settings.rel_tolerance * vv;
+            // gap ≤ ε_rel·|v|² + 16·ε·|v|·size, compared in squares (no sqrt per iteration). With margins
+            // (capsules, spheres, Inflated: GJK runs on the cores) the caller gets |v| − margin, so the
+            // relative term is ε_rel·|v|·(|v| − margin): ε_rel·|v|² would be ε_rel·(1 + margin/distance)
+            // relative on the result (2e-8 on close capsule pairs). Within the margin (overlap) only the
+            // decision matters and ε_rel·|v|² stays.
+            S rel_term = settings.rel_tolerance * vv;
+            if (early_exit_margin > S(0)) {
+                const S core = std::sqrt(vv);
+                if (core > early_exit_margin) rel_term = settings.rel_tolerance * core * (core - early_exit_margin);
+            }
+            const S excess = vv - vw - rel_term;
             if (excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2) {
                 status = GjkStatus::separated;
                 break;
