@@ -12,6 +12,7 @@
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/epa.hpp>
 
+#include "../../tests/narrowphase/convex_reference.hpp"  // certified distance bounds, shared with the tests
 #include "ccd_adapter.hpp"
 #include "peer_fcl.hpp"
 
@@ -76,29 +77,12 @@ template <class F> double time_ns(F&& f, int reps) {
     return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / reps;
 }
 
-/// Certified bounds on a separation distance, in long double, to judge the reference itself: GJK in long
-/// double has the rounding floor of its sub-simplex step too (on sliver triangles of curved shapes |v| can
-/// fall below the distance: issue 5 found the long-double reference up to 9e-9 relative *below* a certified
-/// lower bound on close cones and cylinders). Lower bound: the gap between the supporting planes of A and B
-/// orthogonal to a unit direction u (any u). Upper bound: the distance of two points of the shapes.
-template <class A, class B> LD plane_gap(const A& a, const Transform<LD>& pa, const B& b, const Transform<LD>& pb,
-                                         Vec3<LD> u) {
-    const LD n = u.norm();
-    if (!(n > 0)) return -std::numeric_limits<LD>::infinity();
-    u /= n;
-    const Transformed<A> ta{a, pa};
-    const Transformed<B> tb{b, pb};
-    return u.dot(tb.support(Vec3<LD>(-u))) - u.dot(ta.support(u));
-}
-/// The long-double reference `ref` clamped into its certified interval [lower, upper]: lower from the
-/// reference's and the tested answer's normals, upper from the reference's witness points.
+/// The long-double reference `ref` clamped into its certified interval (test::certified_interval).
 template <class A, class B, class R>
 LD certified_reference(const A& a, const Transform<LD>& pa, const B& b, const Transform<LD>& pb, const R& ref,
                        const Vec3<double>& tested_normal) {
-    const LD lower = std::max(plane_gap(a, pa, b, pb, ref.normal),
-                              plane_gap(a, pa, b, pb, tested_normal.template cast<LD>()));
-    const LD upper = (ref.point_b - ref.point_a).norm();
-    return std::clamp(ref.distance, lower, std::max(lower, upper));
+    const auto [lower, upper] = test::certified_interval(a, pa, b, pb, ref, tested_normal);
+    return std::clamp(ref.distance, lower, upper);
 }
 
 volatile double g_sink = 0;

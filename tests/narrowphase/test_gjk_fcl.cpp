@@ -96,17 +96,6 @@ struct Makers {
     }
 };
 
-/// Lower bound on the distance of A and B: the gap between their supporting planes orthogonal to u (any u).
-template <class A, class B>
-LD plane_gap(const A& a, const Transform<LD>& pa, const B& b, const Transform<LD>& pb, Vec3<LD> u) {
-    const LD n = u.norm();
-    if (!(n > 0)) return -std::numeric_limits<LD>::infinity();
-    u /= n;
-    const Transformed<A> ta{a, pa};
-    const Transformed<B> tb{b, pb};
-    return u.dot(tb.support(Vec3<LD>(-u))) - u.dot(ta.support(u));
-}
-
 constexpr double kScale = 0.5;  // shape size: clear-cut means separated or overlapping by ≥ 1e-3·kScale
 
 /// Relative agreement of cdkit's distance with FCL indep's: FCL's GJK stops at gjk_tolerance = 1e-6
@@ -183,9 +172,8 @@ CaseResult one_case(const A& a, const AL& al, const B& b, const BL& bl, std::mt1
     fcl::Vector3d w1, w2;  // FCL's capsuleCapsuleDistance asserts witness outputs
     r.indep_ok = indep.shapeDistance(fa, ta, fb, tb, &r.indep, &w1, &w2);
     r.ccd_ok = lccd.shapeDistance(fa, ta, fb, tb, &r.ccd, &w1, &w2);
-    const LD lower = std::max(plane_gap(al, pal, bl, pbl, ref.normal),
-                              plane_gap(al, pal, bl, pbl, dd.normal.template cast<LD>()));
-    const LD upper = std::max(lower, (ref.point_b - ref.point_a).norm());
+    const auto interval = test::certified_interval(al, pal, bl, pbl, ref, dd.normal);
+    const LD lower = interval.first, upper = interval.second;  // not bindings: a lambda captures them below
     r.lower = double(lower);
     r.upper = double(upper);
     auto off = [&](double x) { return double(std::max({LD(0), lower - LD(x), LD(x) - upper})) / r.ref_value; };
