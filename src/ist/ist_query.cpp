@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <queue>
 #include <type_traits>
 
@@ -22,6 +23,19 @@ struct Frame {
     Vec3d t;
     [[nodiscard]] Vec3d operator()(const Vec3d& p) const noexcept { return R * p + t; }
 };
+
+/// The start every query shares: B's frame carried into A's, or nothing when there is nothing to traverse —
+/// `status` becomes invalid_pose for a pose that is not a rigid motion, and stays as it is for an empty tree.
+std::optional<Frame> query_frame(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
+                                 const Transform<double>& pose_b, QueryStatus& status) noexcept {
+    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
+        status = QueryStatus::invalid_pose;
+        return std::nullopt;
+    }
+    if (a.empty() || b.empty()) return std::nullopt;
+    const Transform<double> rel = pose_a.inverse() * pose_b;
+    return Frame{rel.R, rel.t};
+}
 
 /// Which node of a pair to split: the larger one (A's on a tie), never a leaf.
 bool split_a(const IstNode& x, const IstNode& y) noexcept { return y.is_leaf() || (!x.is_leaf() && x.radius >= y.radius); }
@@ -119,13 +133,9 @@ PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Trans
                                            const InnerSphereTree& b, const Transform<double>& pose_b,
                                            const IstRequest& request) {
     PenetrationVolumeResult out;
-    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
-        out.status = QueryStatus::invalid_pose;
-        return out;
-    }
-    if (a.empty() || b.empty()) return out;
-    const Transform<double> rel = pose_a.inverse() * pose_b;
-    const Frame to_a{rel.R, rel.t};
+    const std::optional<Frame> frame = query_frame(a, pose_a, b, pose_b, out.status);
+    if (!frame) return out;
+    const Frame& to_a = *frame;
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
     const auto& wa = a.cell_weights();
@@ -198,13 +208,9 @@ PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Trans
 IstDistanceResult sphere_distance(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
                                   const Transform<double>& pose_b, const IstRequest& request) {
     IstDistanceResult out;
-    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
-        out.status = QueryStatus::invalid_pose;
-        return out;
-    }
-    if (a.empty() || b.empty()) return out;
-    const Transform<double> rel = pose_a.inverse() * pose_b;
-    const Frame to_a{rel.R, rel.t};
+    const std::optional<Frame> frame = query_frame(a, pose_a, b, pose_b, out.status);
+    if (!frame) return out;
+    const Frame& to_a = *frame;
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
     struct Item { std::uint32_t a, b; double lb; };
@@ -295,13 +301,12 @@ IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose
                          const Transform<double>& pose_b, const IstRequest& request) {
     if (request.max_node_tests != 0) return ist_query_two_pass(a, pose_a, b, pose_b, request);
     IstQueryResult out;
-    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
-        out.status = out.volume.status = out.distance.status = QueryStatus::invalid_pose;
+    const std::optional<Frame> frame = query_frame(a, pose_a, b, pose_b, out.status);
+    if (!frame) {
+        out.volume.status = out.distance.status = out.status;
         return out;
     }
-    if (a.empty() || b.empty()) return out;
-    const Transform<double> rel = pose_a.inverse() * pose_b;
-    const Frame to_a{rel.R, rel.t};
+    const Frame& to_a = *frame;
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
 

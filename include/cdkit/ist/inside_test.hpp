@@ -88,21 +88,10 @@ public:
         int w = 0;
         for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
             const Triangle& T = mesh_.triangles[items_[k]];
-            const Vec3<double>& A = mesh_.vertices[T[0]];
-            const Vec3<double>& B = mesh_.vertices[T[1]];
-            const Vec3<double>& C = mesh_.vertices[T[2]];
-            const Eigen::Vector2d a(A.y(), A.z()), b(B.y(), B.z()), cc(C.y(), C.z());
-            // Quick reject on the projected bounding box before the predicates.
-            if (q.x() < std::min({a.x(), b.x(), cc.x()}) || q.x() > std::max({a.x(), b.x(), cc.x()}) ||
-                q.y() < std::min({a.y(), b.y(), cc.y()}) || q.y() > std::max({a.y(), b.y(), cc.y()}))
-                continue;
-            const int o1 = orient2d(a, b, q), o2 = orient2d(b, cc, q), o3 = orient2d(cc, a, q);
-            const bool has_pos = o1 > 0 || o2 > 0 || o3 > 0, has_neg = o1 < 0 || o2 < 0 || o3 < 0;
-            if (has_pos && has_neg) continue;                 // the ray's line misses the triangle
-            if (!has_pos && !has_neg) continue;               // edge-on triangle: its edges decide
-            if (o1 == 0 || o2 == 0 || o3 == 0) return fallback(p);  // the line grazes an edge or vertex
-            const int s = has_pos ? 1 : -1;                  // sign of the normal's x component
-            const int side = orient3d(A, B, C, p);
+            const int s = line_meets(T, q);
+            if (s == 0) continue;
+            if (s == grazes) return fallback(p);             // the line grazes an edge or vertex
+            const int side = orient3d(mesh_.vertices[T[0]], mesh_.vertices[T[1]], mesh_.vertices[T[2]], p);
             if (side == 0) return fallback(p);                // p on the triangle
             if (side == s) w += s;                            // crossing ahead of p (t > 0)
         }
@@ -124,19 +113,12 @@ public:
         const Eigen::Vector2d q(y, z);
         for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
             const Triangle& T = mesh_.triangles[items_[k]];
+            const int s = line_meets(T, q);
+            if (s == 0) continue;
+            if (s == grazes) return false;
             const Vec3<double>& A = mesh_.vertices[T[0]];
-            const Vec3<double>& B = mesh_.vertices[T[1]];
-            const Vec3<double>& C = mesh_.vertices[T[2]];
-            const Eigen::Vector2d a(A.y(), A.z()), b(B.y(), B.z()), cc(C.y(), C.z());
-            if (q.x() < std::min({a.x(), b.x(), cc.x()}) || q.x() > std::max({a.x(), b.x(), cc.x()}) ||
-                q.y() < std::min({a.y(), b.y(), cc.y()}) || q.y() > std::max({a.y(), b.y(), cc.y()}))
-                continue;
-            const int o1 = orient2d(a, b, q), o2 = orient2d(b, cc, q), o3 = orient2d(cc, a, q);
-            const bool has_pos = o1 > 0 || o2 > 0 || o3 > 0, has_neg = o1 < 0 || o2 < 0 || o3 < 0;
-            if (has_pos == has_neg) continue;  // missed, or an edge-on triangle
-            if (o1 == 0 || o2 == 0 || o3 == 0) return false;
-            const Vec3<double> n = (B - A).cross(C - A);
-            out.emplace_back(A.x() - (n.y() * (y - A.y()) + n.z() * (z - A.z())) / n.x(), has_pos ? 1 : -1);
+            const Vec3<double> n = (mesh_.vertices[T[1]] - A).cross(mesh_.vertices[T[2]] - A);
+            out.emplace_back(A.x() - (n.y() * (y - A.y()) + n.z() * (z - A.z())) / n.x(), s);
         }
         return true;
     }
@@ -146,6 +128,25 @@ private:
         const double f = (x - lo_[axis]) / cell_[axis];
         if (!(f > 0)) return 0;
         return std::min(dims_ - 1, int(f));
+    }
+    static constexpr int grazes = 2;
+    /// How the line {(t, q.x, q.y) : t ∈ ℝ} meets triangle T, from its yz projection with exact orient2d:
+    /// 0 misses it (or T is edge-on: its edges decide), ±1 crosses its interior (the sign of T's normal's x
+    /// component), `grazes` touches an edge or a vertex (the caller falls back).
+    [[nodiscard]] int line_meets(const Triangle& T, const Eigen::Vector2d& q) const noexcept {
+        const Vec3<double>& A = mesh_.vertices[T[0]];
+        const Vec3<double>& B = mesh_.vertices[T[1]];
+        const Vec3<double>& C = mesh_.vertices[T[2]];
+        const Eigen::Vector2d a(A.y(), A.z()), b(B.y(), B.z()), c(C.y(), C.z());
+        // Quick reject on the projected bounding box before the predicates.
+        if (q.x() < std::min({a.x(), b.x(), c.x()}) || q.x() > std::max({a.x(), b.x(), c.x()}) ||
+            q.y() < std::min({a.y(), b.y(), c.y()}) || q.y() > std::max({a.y(), b.y(), c.y()}))
+            return 0;
+        const int o1 = orient2d(a, b, q), o2 = orient2d(b, c, q), o3 = orient2d(c, a, q);
+        const bool has_pos = o1 > 0 || o2 > 0 || o3 > 0, has_neg = o1 < 0 || o2 < 0 || o3 < 0;
+        if (has_pos == has_neg) return 0;  // the line misses, or an edge-on triangle
+        if (o1 == 0 || o2 == 0 || o3 == 0) return grazes;
+        return has_pos ? 1 : -1;
     }
     [[nodiscard]] int fallback(const Vec3<double>& p) const noexcept {
         return int(std::lround(winding_number(mesh_, p)));
