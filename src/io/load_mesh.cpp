@@ -65,7 +65,7 @@ public:
 // and a truncated binary STL gets an unhelpful message. These checks read the bytes first and reject such
 // files with a precise reason. They mirror how assimp 5.2 reads these formats, and only ever reject.
 
-enum class Precheck { none, ply, off, stl };
+enum class Precheck { none, ply, off, stl, collada };
 
 std::string lower(std::string s) {
     for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -93,6 +93,9 @@ Precheck precheck_kind(const std::string& ext, bool ext_known, std::string_view 
     if (ext == "ply") return Precheck::ply;
     if (ext == "off") return Precheck::off;
     if (ext == "stl") return Precheck::stl;
+    // assimp falls back to sniffing the content when the extension's reader declines, so a COLLADA document
+    // is checked whatever the name says.
+    if (ext == "dae" || head.find("<COLLADA") != std::string_view::npos) return Precheck::collada;
     if (ext_known) return Precheck::none;
     if (starts_with_ply(head)) return Precheck::ply;
     if (starts_with_off(head)) return Precheck::off;
@@ -410,8 +413,67 @@ void precheck_off(const std::string& source, std::string_view d) {
                         std::to_string(nf) + " faces (the header lies about counts, or the file is truncated)");
 }
 
+/// The value of attribute `name` in the tag text `tag` ("" when absent).
+std::string_view xml_attribute(std::string_view tag, std::string_view name) {
+    for (std::size_t at = tag.find(name); at != std::string_view::npos; at = tag.find(name, at + 1)) {
+        const std::size_t eq = at + name.size();
+        if (at > 0 && !is_space(tag[at - 1]) && !is_line_end(tag[at - 1])) continue;
+        if (eq + 1 >= tag.size() || tag[eq] != '=' || (tag[eq + 1] != '"' && tag[eq + 1] != '\'')) continue;
+        const std::size_t end = tag.find(tag[eq + 1], eq + 2);
+        if (end == std::string_view::npos) return {};
+        return tag.substr(eq + 2, end - eq - 2);
+    }
+    return {};
+}
+
+/// COLLADA: every <float_array> holds as many numbers as its count says, and every <accessor> reads no
+/// further than its array. assimp 5.2 trusts both and dereferences null on a lying count (found by
+/// fuzz_load_mesh; fuzz/regressions/fuzz_load_mesh-assimp-collada-count-segv.bin).
+void precheck_collada(const std::string& source, std::string_view d) {
+    std::vector<std::pair<std::string_view, std::uint64_t>> arrays;  // (id, values held)
+    for (std::size_t at = d.find("<float_array"); at != std::string_view::npos; at = d.find("<float_array", at + 1)) {
+        const std::size_t close = d.find('>', at);
+        if (close == std::string_view::npos) throw Error(source, "float_array", "unterminated tag");
+        const std::string_view tag = d.substr(at, close - at);
+        const std::string_view id = xml_attribute(tag, "id");
+        std::uint64_t declared = 0;
+        if (!parse_u64(xml_attribute(tag, "count"), declared))
+            throw Error(source, "float_array " + std::string(id), "missing or unreadable count");
+        std::uint64_t held = 0;
+        if (tag.empty() || tag.back() != '/') {
+            const std::size_t end = d.find("</float_array", close);
+            if (end == std::string_view::npos) throw Error(source, "float_array " + std::string(id), "unterminated");
+            held = tokens(d.substr(close + 1, end - close - 1)).size();
+        }
+        if (held != declared)
+            throw Error(source, "float_array " + std::string(id),
+                        "count says " + std::to_string(declared) + " values, the array holds " + std::to_string(held));
+        arrays.emplace_back(id, held);
+    }
+    for (std::size_t at = d.find("<accessor"); at != std::string_view::npos; at = d.find("<accessor", at + 1)) {
+        const std::size_t close = d.find('>', at);
+        if (close == std::string_view::npos) throw Error(source, "accessor", "unterminated tag");
+        const std::string_view tag = d.substr(at, close - at);
+        std::string_view src = xml_attribute(tag, "source");
+        if (!src.empty() && src.front() == '#') src.remove_prefix(1);
+        std::uint64_t count = 0, stride = 1, offset = 0;
+        if (!parse_u64(xml_attribute(tag, "count"), count))
+            throw Error(source, "accessor " + std::string(src), "missing or unreadable count");
+        if (!xml_attribute(tag, "stride").empty() && !parse_u64(xml_attribute(tag, "stride"), stride))
+            throw Error(source, "accessor " + std::string(src), "unreadable stride");
+        if (!xml_attribute(tag, "offset").empty() && !parse_u64(xml_attribute(tag, "offset"), offset))
+            throw Error(source, "accessor " + std::string(src), "unreadable offset");
+        for (const auto& [id, held] : arrays)
+            if (id == src && (stride > held || count > held || offset + count * stride > held))
+                throw Error(source, "accessor " + std::string(src),
+                            "reads " + std::to_string(count) + " × " + std::to_string(stride) + " values from an array of " +
+                                std::to_string(held));
+    }
+}
+
 void precheck(const std::string& source, Precheck kind, std::string_view data, std::uint64_t size) {
     switch (kind) {
+        case Precheck::collada: precheck_collada(source, data); break;
         case Precheck::ply: precheck_ply(source, data); break;
         case Precheck::off: precheck_off(source, data); break;
         case Precheck::stl: precheck_stl(source, data, size); break;
@@ -648,7 +710,7 @@ TriangleMesh<double> load_mesh(const std::string& path, const LoadOptions& optio
                                             !ext.empty() && importer.IsExtensionSupported(ext.c_str()), head);
         if (kind == Precheck::stl || kind == Precheck::none) {
             precheck(path, kind, head, size);
-        } else {  // PLY and OFF checks read the whole file (a fraction of what assimp then spends on it)
+        } else {  // PLY, OFF and COLLADA checks read the whole file (a fraction of what assimp then spends on it)
             std::string all(static_cast<std::size_t>(size), '\0');
             in.seekg(0);
             if (!in.read(all.data(), static_cast<std::streamsize>(all.size())))
