@@ -87,16 +87,17 @@ bool starts_with_off(std::string_view d) noexcept {
     return d.substr(0, 3) == "OFF";
 }
 
-/// Which check applies: by extension when assimp picks its reader by extension, else by content (assimp
-/// then sniffs the content too).
-Precheck precheck_kind(const std::string& ext, bool ext_known, std::string_view head) {
+/// Which check applies: by extension, else by content (assimp sniffs the content when no reader takes the
+/// extension, and also when the extension's reader declines the bytes).
+Precheck precheck_kind(const std::string& ext, std::string_view head) {
     if (ext == "ply") return Precheck::ply;
     if (ext == "off") return Precheck::off;
     if (ext == "stl") return Precheck::stl;
     // assimp falls back to sniffing the content when the extension's reader declines, so a COLLADA document
     // is checked whatever the name says.
+    // The same holds for PLY and OFF content under another known extension (a PLY body named .gltf made
+    // assimp's PLY reader spin: fuzz/regressions/fuzz_load_mesh-assimp-ply-as-gltf-hang.bin).
     if (ext == "dae" || head.find("<COLLADA") != std::string_view::npos) return Precheck::collada;
-    if (ext_known) return Precheck::none;
     if (starts_with_ply(head)) return Precheck::ply;
     if (starts_with_off(head)) return Precheck::off;
     return Precheck::none;
@@ -706,8 +707,7 @@ TriangleMesh<double> load_mesh(const std::string& path, const LoadOptions& optio
 
     return import_scene(path, options, [&](Assimp::Importer& importer, unsigned int flags) {
         const std::string ext = lower(fpath.extension().string());  // ".ply" or ""
-        const Precheck kind = precheck_kind(ext.empty() ? ext : ext.substr(1),
-                                            !ext.empty() && importer.IsExtensionSupported(ext.c_str()), head);
+        const Precheck kind = precheck_kind(ext.empty() ? ext : ext.substr(1), head);
         if (kind == Precheck::stl || kind == Precheck::none) {
             precheck(path, kind, head, size);
         } else {  // PLY, OFF and COLLADA checks read the whole file (a fraction of what assimp then spends on it)
@@ -735,8 +735,7 @@ TriangleMesh<double> load_mesh_from_memory(const void* data, std::size_t size, c
 
     return import_scene(source, options, [&](Assimp::Importer& importer, unsigned int flags) {
         const std::string_view bytes(static_cast<const char*>(data), size);
-        const bool known = !hint.empty() && importer.IsExtensionSupported(("." + hint).c_str());
-        precheck(source, precheck_kind(hint, known, bytes.substr(0, 512)), bytes, size);
+        precheck(source, precheck_kind(hint, bytes.substr(0, 512)), bytes, size);
         importer.SetIOHandler(new NoFiles);
         return importer.ReadFileFromMemory(data, size, flags, hint.c_str());
     });
