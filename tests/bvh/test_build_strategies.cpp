@@ -109,3 +109,24 @@ TEMPLATE_TEST_CASE("parallel build gives the sequential tree", "[bvh][build]", A
             REQUIRE_NOTHROW(model.validate());
         }
 }
+
+TEST_CASE("multi-triangle leaves are full under every split", "[bvh][build]") {
+    // Cuts move to a multiple of the leaf size, so only the last leaf of the triangle order may be part-full:
+    // ⌈n / leaf⌉ leaves, the fewest possible (unbalanced SAH cuts used to leave many leaves part-full).
+    const TriangleMesh<double> m = test::uv_sphere<double>(1.0, test::scaled(24, 8), test::scaled(40, 12));
+    const std::size_t n = m.triangles.size();
+    for (SplitStrategy split : {SplitStrategy::median, SplitStrategy::mean, SplitStrategy::sah, SplitStrategy::pca_volume})
+        for (std::uint32_t leaf : {2u, 4u, 7u}) {
+            BuildOptions opt;
+            opt.split = split;
+            opt.max_leaf_triangles = leaf;
+            const MeshModel<Obb<double>> model(m, opt);
+            INFO("split " << int(split) << ", leaf " << leaf);
+            REQUIRE_NOTHROW(model.validate());
+            std::size_t leaves = 0, part_full = 0;
+            for (const auto& node : model.bvh().nodes())
+                if (node.is_leaf()) ++leaves, part_full += node.count < leaf;
+            CHECK(leaves == (n + leaf - 1) / leaf);
+            CHECK(part_full <= 1);
+        }
+}

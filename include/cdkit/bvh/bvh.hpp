@@ -37,7 +37,9 @@ struct BuildOptions {
     /// Binned SAH by default: on the bunny and the whole dragon ladder (11k … 871k) it made every BV's
     /// queries faster than the median split (docs/bvh.md, "Build strategies"), for 1.1–2.5× the build time.
     SplitStrategy split = SplitStrategy::sah;
-    std::uint32_t max_leaf_triangles = 1;  ///< leaves hold at most this many triangles (≥ 1)
+    /// Leaves hold at most this many triangles (≥ 1). Above 1, every cut falls on a multiple of it, so all
+    /// leaves but one are full: ⌈n / max_leaf_triangles⌉ leaves whatever the split.
+    std::uint32_t max_leaf_triangles = 1;
     /// Build meshes of at least `parallel_min_triangles` on several threads when cdkit has TBB
     /// (CDKIT_HAS_TBB); the tree is the same either way, only its node layout differs. Below 2^16
     /// triangles, starting threads costs more than the build.
