@@ -6,6 +6,7 @@
 #include "cdkit/bv/narrow_outward.hpp"
 #include "cdkit/bv/triangle_moments.hpp"
 #include "cdkit/bvh/bvh.hpp"
+#include "cdkit/core/error.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -204,7 +205,7 @@ template <class BV> class TopDownBuilder {
 public:
     using S = typename BV::Scalar;
     using Node = BvhNode<BV>;
-    /// A node whose range is built later (by subtree()): its index in the node array and its range.
+    /// A node still to be built: its slot in the node array, its range of the triangle order, its level.
     struct Pending {
         std::uint32_t node, begin, end, level;
     };
@@ -240,19 +241,23 @@ public:
 
     [[nodiscard]] bool is_leaf(const Pending& w) const noexcept { return w.end - w.begin <= leaf_max_; }
 
-    /// Makes `parent` an inner node over two new adjacent nodes appended to `nodes`; returns their ranges.
-    static std::array<Pending, 2> add_children(std::vector<Node>& nodes, const Pending& parent, std::uint32_t cut) {
-        const std::uint32_t children = std::uint32_t(nodes.size());
+    /// Nodes of the subtree over m triangles: every cut falls on a multiple of the leaf size (align_cut), so
+    /// it has exactly ⌈m / leaf⌉ leaves. Known sizes let subtrees built in parallel write straight into the
+    /// final array.
+    [[nodiscard]] std::uint32_t node_count(std::uint32_t m) const noexcept { return 2 * ((m + leaf_max_ - 1) / leaf_max_) - 1; }
+
+    /// Makes `parent` an inner node over the two adjacent slots `children`, `children` + 1; returns their ranges.
+    static std::array<Pending, 2> add_children(Node* nodes, const Pending& parent, std::uint32_t children, std::uint32_t cut) {
         nodes[parent.node].first = children;
         nodes[parent.node].count = 0;
-        nodes.emplace_back();
-        nodes.emplace_back();
         return {Pending{children, parent.begin, cut, parent.level + 1}, Pending{children + 1, cut, parent.end, parent.level + 1}};
     }
 
-    /// Builds the nodes of `root`'s range into `nodes` (root's slot already there, its BV too when
-    /// `root_fitted`), depth first; children of a node are adjacent. Returns the depth reached.
-    std::size_t grow(std::vector<Node>& nodes, const Pending& root, bool root_fitted) const {
+    /// Builds the subtree of `root` into `nodes`: root's slot holds its BV already when `root_fitted`; its
+    /// node_count() − 1 descendants take the slots from `next` on, depth first, children of a node adjacent.
+    /// Returns the depth reached.
+    std::size_t grow(Node* nodes, std::uint32_t next, const Pending& root, bool root_fitted) const {
+        const std::uint32_t end = next + node_count(root.end - root.begin) - 1;
         std::vector<std::pair<S, Index>> scratch;
         std::vector<Pending> stack{root};
         std::size_t depth = 0;
@@ -262,21 +267,14 @@ public:
             depth = std::max<std::size_t>(depth, w.level);
             const std::uint32_t cut = fit_node(nodes[w.node], w, root_fitted && w.node == root.node, true, scratch);
             if (is_leaf(w)) continue;
-            const auto [left, right] = add_children(nodes, w, cut);
+            CDKIT_ASSERT(next + 2 <= end, "BVH build: a subtree outgrew its node_count()");
+            const auto [left, right] = add_children(nodes, w, next, cut);
+            next += 2;
             // Right first so the left subtree is built (and laid out) next: depth-first order in memory.
             stack.push_back(right);
             stack.push_back(left);
         }
         return depth;
-    }
-
-    /// The whole subtree of `p` as its own array, root at 0, child indices local to it.
-    /// `p`'s BV, fitted already, is `root`.
-    std::vector<Node> subtree(const Pending& p, const Node& root, std::size_t& depth) const {
-        std::vector<Node> nodes(1, root);
-        nodes.reserve(2 * ((p.end - p.begin + leaf_max_ - 1) / leaf_max_));
-        depth = grow(nodes, {0, p.begin, p.end, p.level}, true);
-        return nodes;
     }
 
     [[nodiscard]] std::vector<Index>& order() noexcept { return order_; }
@@ -344,8 +342,9 @@ private:
 /// Builds a Bvh<BV> over `mesh`, which must be valid (validate() it first; MeshModel does). O(n log n) for
 /// median, mean and sah splits (O(n · depth)); O(n log² n) for pca_volume (a sort per node).
 /// With TBB (CDKIT_HAS_TBB) and options.parallel, meshes of at least options.parallel_min_triangles are built by
-/// splitting the top levels first and then growing the subtrees below them in parallel: the same tree as the
-/// sequential build (same nodes, BVs and triangle order), with the subtrees laid out one after another.
+/// splitting the top levels first (level by level, each level's nodes in parallel) and then growing the subtrees
+/// below them in parallel: the same tree as the sequential build (same nodes, BVs and triangle order), laid out
+/// with the top levels breadth first and then each subtree depth first.
 ///
 /// A mesh in double with a float BV (Obb<float> over TriangleMesh<double>, say) gets the double tree's
 /// structure with every BV rounded outward to float (bv/narrow_outward.hpp): half the node bytes, still
@@ -381,16 +380,17 @@ template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<t
     if (n == 0) return {};
     detail::TopDownBuilder<BV> builder(mesh, options);
     const std::uint32_t leaf_max = std::max<std::uint32_t>(1, options.max_leaf_triangles);
-    std::vector<Node> nodes(1);
-    nodes.reserve(2 * ((n + leaf_max - 1) / leaf_max));
+    std::vector<Node> nodes(builder.node_count(std::uint32_t(n)));
     const Pending root{0, 0, std::uint32_t(n), 1};
 #if defined(CDKIT_HAS_TBB)
     if (options.parallel && n >= std::max<std::size_t>(options.parallel_min_triangles, 2 * leaf_max)) {
         // The top levels breadth first, the nodes of each level fitted and split in parallel (their ranges
-        // are disjoint), down to 16 subtrees (enough to balance a few cores); then those in parallel. Each
-        // top level reads every triangle: done one node at a time, they were the serial part of the build.
+        // are disjoint), down to 16 subtrees (enough to balance a few cores); then those in parallel, each
+        // into its own slots of the array. Each top level reads every triangle: done one node at a time,
+        // they were the serial part of the build.
         constexpr std::uint32_t kTopLevels = 5;
         std::vector<Pending> level{root}, pending;
+        std::uint32_t next = 1;
         std::size_t depth = 1;
         while (!level.empty()) {
             std::vector<std::uint32_t> cut(level.size());
@@ -398,7 +398,7 @@ template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<t
                 std::vector<std::pair<typename BV::Scalar, Index>> scratch;
                 cut[i] = builder.fit_node(nodes[level[i].node], level[i], false, level[i].level < kTopLevels, scratch);
             });
-            std::vector<Pending> next;
+            std::vector<Pending> below;
             for (std::size_t i = 0; i < level.size(); ++i) {
                 const Pending& w = level[i];
                 depth = std::max<std::size_t>(depth, w.level);
@@ -407,33 +407,27 @@ template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<t
                     pending.push_back(w);
                     continue;
                 }
-                const auto children = builder.add_children(nodes, w, cut[i]);
-                next.insert(next.end(), children.begin(), children.end());
+                const auto children = builder.add_children(nodes.data(), w, next, cut[i]);
+                next += 2;
+                below.insert(below.end(), children.begin(), children.end());
             }
-            level.swap(next);
+            level.swap(below);
         }
-        std::vector<std::vector<Node>> parts(pending.size());
+        std::vector<std::uint32_t> first_slot(pending.size());
+        for (std::size_t i = 0; i < pending.size(); ++i) {
+            first_slot[i] = next;
+            next += builder.node_count(pending[i].end - pending[i].begin) - 1;
+        }
+        CDKIT_ASSERT(next == nodes.size(), "BVH build: node slots do not add up");
         std::vector<std::size_t> part_depth(pending.size());
         tbb::parallel_for(std::size_t(0), pending.size(), [&](std::size_t i) {
-            parts[i] = builder.subtree(pending[i], nodes[pending[i].node], part_depth[i]);
+            part_depth[i] = builder.grow(nodes.data(), first_slot[i], pending[i], true);
         });
-        // Append each subtree below the top nodes: its root fills the pending slot, the rest moves by an offset.
-        for (std::size_t i = 0; i < pending.size(); ++i) {
-            const std::vector<Node>& part = parts[i];
-            const std::uint32_t offset = std::uint32_t(nodes.size()) - 1;  // local index j >= 1 -> j + offset
-            auto moved = [&](Node node) {
-                if (!node.is_leaf()) node.first += offset;
-                return node;
-            };
-            nodes[pending[i].node] = moved(part[0]);
-            for (std::size_t j = 1; j < part.size(); ++j) nodes.push_back(moved(part[j]));
-            depth = std::max(depth, part_depth[i]);
-            std::vector<Node>().swap(parts[i]);  // release as we go: the parts together are a second tree
-        }
+        for (std::size_t d : part_depth) depth = std::max(depth, d);
         return Bvh<BV>(std::move(nodes), std::move(builder.order()), depth);
     }
 #endif
-    const std::size_t depth = builder.grow(nodes, root, false);
+    const std::size_t depth = builder.grow(nodes.data(), 1, root, false);
     return Bvh<BV>(std::move(nodes), std::move(builder.order()), depth);
 }
 }  // namespace detail
