@@ -50,8 +50,8 @@ Times cdkit's mesh-mesh collision queries against FCL's, in one process on ident
   --steps N           P1: poses per distance (one tumbling turn in N steps); overrides --size
   --rotations R       P2: random rotations (each with a random direction); overrides --size
   --methods LIST      comma-separated glob patterns over method names (default '*'); a leading '-'
-                      excludes ('-fcl_aabb' = all but fcl_aabb, which copies and refits both meshes
-                      on every query and dominates run time on big meshes); the reference %s
+                      excludes ('-fcl_aabb,-fcl_rss' = all but those two, which copy and refit both
+                      meshes on every query and dominate run time on big meshes); the reference %s
                       is always measured
   --list-methods      print the method names and exit
   --min-batch-us X    repeat each pose's query until the batch lasts X us (default 50)

@@ -35,6 +35,7 @@ STYLE = {
     "fcl_obbrss": ("tab:green", "--", "^", "full"),
     "fcl_obb": ("tab:blue", "--", "v", "full"),
     "fcl_aabb": ("tab:orange", "--", "D", "full"),
+    "fcl_rss": ("tab:green", "--", "s", "full"),
 }
 EXTRA_COLOURS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:gray", "tab:olive", "tab:cyan"]
 MODE_TITLE = {"first": "first contact", "all": "all contacts"}
