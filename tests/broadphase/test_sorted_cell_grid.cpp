@@ -1,5 +1,5 @@
 // The sorted-cell grid against brute force: its dense (cell start table) and sparse (forward pointers) paths,
-// the oversize list, boxes on cell boundaries, one-cell fallbacks for extreme coordinates, float.
+// crowded cells, the oversize list, boxes on cell boundaries, one-cell fallbacks for extreme coordinates, float.
 #include <catch2/catch.hpp>
 
 #include "broadphase_check.hpp"
@@ -99,6 +99,53 @@ TEST_CASE("sorted-cell grid, sparse path: far-apart clusters equal brute force",
     const std::size_t pairs = run_frames(p, ids, rng, frames, fresh);
     CHECK_FALSE(p.g.stats().dense);
     CHECK(pairs > std::size_t(frames) * 100);
+}
+
+TEST_CASE("sorted-cell grid: crowded cells equal brute force, dense and sparse", "[broadphase][cellgrid]") {
+    // 2500 small boxes in a 0.3-wide cube, a few objects per cell: runs longer than the eight indices written
+    // without a loop, candidate lists that outgrow their first buffer, and more pairs per frame than one
+    // batch of the pair buffer. 200 more boxes spread over a wide scene make the grid sparse.
+    for (const bool spread : {false, true}) {
+        CAPTURE(spread);
+        std::mt19937 rng(spread ? 26 : 25);
+        Pair2 p;
+        std::vector<ObjectId> ids;
+        auto fresh = [](std::mt19937& r) { return random_box(r, 0.3, 0.02, 0.05); };
+        for (int i = 0; i < 2500; ++i) ids.push_back(p.insert(fresh(rng)));
+        if (spread)
+            for (int i = 0; i < 200; ++i) ids.push_back(p.insert(random_box(rng, 50, 0.02, 0.05)));
+        CHECK(p.check() > 4000);
+        CHECK(p.g.stats().dense == !spread);
+        CHECK(p.g.stats().oversized == 0);
+        CHECK(p.g.stats().candidates > 40 * ids.size());  // longer lists than 5 runs x 8 indices
+        CHECK(run_frames(p, ids, rng, test::scaled(3, 1), fresh) > 0);
+    }
+}
+
+TEST_CASE("sorted-cell grid: one cell holding thousands of points", "[broadphase][cellgrid]") {
+    // 2200 boxes of edge 0.5-1.5 set the cells (about 1 x 1 x 1, 0.5 on x), 2200 points lie in one cell near
+    // the origin, away from the boxes: the first point's candidate list (the rest of its cell) is longer
+    // than the whole pair buffer. The boxes alone give more pairs than one batch of that buffer.
+    for (const bool spread : {false, true}) {
+        CAPTURE(spread);
+        std::mt19937 rng(spread ? 28 : 27);
+        Pair2 p;
+        p.insert({Vec3<double>(0, 0, 0), Vec3<double>(0, 0, 0)});  // the grid origin
+        std::uniform_real_distribution<double> u(0.05, 0.45);
+        for (int i = 0; i < 2200; ++i) {
+            const Vec3<double> c(u(rng), u(rng), u(rng));
+            p.insert({c, c});
+        }
+        const double world = spread ? 80 : 18;  // 80: far more cells than objects
+        for (int i = 0; i < 2200; ++i) {
+            B b = random_box(rng, world, 0.5, 1.5);
+            p.insert({b.lo + Vec3<double>::Constant(2), b.hi + Vec3<double>::Constant(2)});
+        }
+        CHECK(p.check() > (spread ? 0u : 2500u));
+        CHECK(p.g.stats().dense == !spread);
+        CHECK(p.g.stats().oversized == 0);
+        CHECK(p.g.stats().candidates > 2200 * 2199 / 2);  // every pair of points in the one cell is tested
+    }
 }
 
 TEST_CASE("sorted-cell grid: boxes on cell boundaries and exactly as large as the cell", "[broadphase][cellgrid]") {
