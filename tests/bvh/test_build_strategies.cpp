@@ -7,6 +7,7 @@
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/sphere.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 using namespace cdkit;
@@ -129,4 +130,21 @@ TEST_CASE("multi-triangle leaves are full under every split", "[bvh][build]") {
             CHECK(leaves == (n + leaf - 1) / leaf);
             CHECK(part_full <= 1);
         }
+}
+
+TEST_CASE("the build's Morton-ordered copy holds the same triangles", "[bvh][build]") {
+    TriangleMesh<double> m = test::random_soup<double>(test::scaled(500, 100), 0.1, 9);
+    m.vertices.push_back(Vec3<double>(5, 5, 5));  // unused: dropped from the copy
+    const auto ordered = detail::morton_ordered(m);
+    REQUIRE(ordered.mesh.triangles.size() == m.triangles.size());
+    CHECK(ordered.mesh.vertices.size() == m.vertices.size() - 1);
+    std::vector<Index> sorted = ordered.original;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < sorted.size(); ++i) REQUIRE(sorted[i] == Index(i));  // a permutation
+    for (std::size_t i = 0; i < m.triangles.size(); ++i)
+        for (int c = 0; c < 3; ++c) REQUIRE(ordered.mesh.triangle(i)[c] == m.triangle(ordered.original[i])[c]);
+    // Flat input (all z equal) gets keys too.
+    TriangleMesh<double> flat = m;
+    for (auto& v : flat.vertices) v.z() = 1.0;
+    CHECK(detail::morton_ordered(flat).original.size() == flat.triangles.size());
 }

@@ -6,6 +6,7 @@
 #include "cdkit/bv/narrow_outward.hpp"
 #include "cdkit/bv/triangle_moments.hpp"
 #include "cdkit/bvh/bvh.hpp"
+#include "cdkit/bvh/detail/morton_order.hpp"
 #include "cdkit/core/error.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -210,16 +211,18 @@ public:
         std::uint32_t node, begin, end, level;
     };
 
+    /// Works on a Morton-ordered copy of `mesh` (detail/morton_order.hpp); take_order() maps back.
     TopDownBuilder(const TriangleMesh<S>& mesh, const BuildOptions& options)
-        : mesh_(mesh), options_(options), leaf_max_(std::max<std::uint32_t>(1, options.max_leaf_triangles)),
-          order_(mesh.triangles.size()), centroid_(mesh.triangles.size()) {
+        : local_(morton_ordered(mesh)), mesh_(local_.mesh), options_(options),
+          leaf_max_(std::max<std::uint32_t>(1, options.max_leaf_triangles)), order_(mesh.triangles.size()),
+          centroid_(mesh.triangles.size()) {
         std::iota(order_.begin(), order_.end(), Index(0));
         for (std::size_t i = 0; i < centroid_.size(); ++i) {
-            const Triangle& t = mesh.triangles[i];
-            centroid_[i] = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / S(3);
+            const Triangle& t = mesh_.triangles[i];
+            centroid_[i] = (mesh_.vertices[t[0]] + mesh_.vertices[t[1]] + mesh_.vertices[t[2]]) / S(3);
         }
-        if constexpr (FitsFromMoments<BV>) moments_ = triangle_moments(mesh);
-        if (options.split == SplitStrategy::sah) tri_bounds_ = triangle_bounds(mesh, centroid_);
+        if constexpr (FitsFromMoments<BV>) moments_ = triangle_moments(mesh_);
+        if (options.split == SplitStrategy::sah) tri_bounds_ = triangle_bounds(mesh_, centroid_);
     }
 
     /// Fits `w`'s BV into `node` (unless `fitted`: it is there already) and makes it a leaf when it holds
@@ -277,7 +280,11 @@ public:
         return depth;
     }
 
-    [[nodiscard]] std::vector<Index>& order() noexcept { return order_; }
+    /// The finished triangle order, in the input mesh's indices (leaves the builder without it).
+    [[nodiscard]] std::vector<Index> take_order() {
+        for (Index& t : order_) t = local_.original[t];
+        return std::move(order_);
+    }
 
 private:
     /// Partitions [begin, end) of the order by the chosen strategy; returns the cut (begin < cut < end).
@@ -327,7 +334,8 @@ private:
         return first + aligned;
     }
 
-    const TriangleMesh<S>& mesh_;
+    MortonOrderedMesh<S> local_;
+    const TriangleMesh<S>& mesh_;  ///< local_.mesh
     BuildOptions options_;
     std::uint32_t leaf_max_;
     // mutable: subtrees permute disjoint ranges of it; nothing else changes after construction.
@@ -424,11 +432,11 @@ template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<t
             part_depth[i] = builder.grow(nodes.data(), first_slot[i], pending[i], true);
         });
         for (std::size_t d : part_depth) depth = std::max(depth, d);
-        return Bvh<BV>(std::move(nodes), std::move(builder.order()), depth);
+        return Bvh<BV>(std::move(nodes), builder.take_order(), depth);
     }
 #endif
     const std::size_t depth = builder.grow(nodes.data(), 1, root, false);
-    return Bvh<BV>(std::move(nodes), std::move(builder.order()), depth);
+    return Bvh<BV>(std::move(nodes), builder.take_order(), depth);
 }
 }  // namespace detail
 
