@@ -104,18 +104,23 @@ template <class S> [[nodiscard]] std::vector<TriangleBounds<S>> triangle_bounds(
 /// centroids (then the caller splits at the median).
 template <class S>
 [[nodiscard]] Index* sah_split(const std::vector<TriangleBounds<S>>& tri, Index* first, Index* last, int& axis_used) {
-    constexpr int B = 16;
+    constexpr int kMaxBins = 16;
+    // Most nodes are small: n bins resolve n centroids as well as 16 do, and the sweep below costs per bin.
+    const int B = int(std::min<std::ptrdiff_t>(kMaxBins, last - first));
     Box<S> cb;
     for (Index* p = first; p != last; ++p) cb.add(tri[*p].centroid);
+    bool binned[3];
+    S scale[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        binned[axis] = cb.hi[axis] > cb.lo[axis];
+        scale[axis] = binned[axis] ? S(B) / (cb.hi[axis] - cb.lo[axis]) : S(0);
+    }
     auto bin_of = [&](const Vec3<S>& c, int axis) {
-        const S w = cb.hi[axis] - cb.lo[axis];
-        const int b = int(S(B) * (c[axis] - cb.lo[axis]) / w);
+        const int b = int((c[axis] - cb.lo[axis]) * scale[axis]);
         return std::clamp(b, 0, B - 1);
     };
-    bool binned[3];
-    for (int axis = 0; axis < 3; ++axis) binned[axis] = cb.hi[axis] > cb.lo[axis];
-    std::array<std::array<Box<S>, B>, 3> box;
-    std::array<std::array<std::size_t, B>, 3> count{};
+    std::array<std::array<Box<S>, kMaxBins>, 3> box;
+    std::array<std::array<std::size_t, kMaxBins>, 3> count{};
     for (Index* p = first; p != last; ++p) {
         const Vec3<S>& c = tri[*p].centroid;
         const Box<S>& tb = tri[*p].box;
@@ -131,7 +136,7 @@ template <class S>
     for (int axis = 0; axis < 3; ++axis) {
         if (!binned[axis]) continue;
         // Sweep: right-to-left suffix areas, then left-to-right.
-        std::array<double, B> right_cost{};
+        std::array<double, kMaxBins> right_cost{};
         Box<S> acc;
         std::size_t n = 0;
         for (int b = B - 1; b > 0; --b) {
