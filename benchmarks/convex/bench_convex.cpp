@@ -69,11 +69,16 @@ struct Stats {
 };
 
 /// Mean time of `reps` calls after one untimed call (without it the method timed first for a configuration
-/// paid that configuration's cache misses: hull1000's vertices and adjacency, ~40 KB).
+/// paid that configuration's cache misses: hull1000's vertices and adjacency, ~40 KB). The empty asm with a
+/// memory clobber before each call keeps the compiler from hoisting an inlined, side-effect-free query out of
+/// the loop (libccd's calls into the shared library could never be).
 template <class F> double time_ns(F&& f, int reps) {
     f();
     auto t0 = Clock::now();
-    for (int r = 0; r < reps; ++r) f();
+    for (int r = 0; r < reps; ++r) {
+        asm volatile("" ::: "memory");
+        f();
+    }
     return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / reps;
 }
 

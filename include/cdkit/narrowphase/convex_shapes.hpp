@@ -28,8 +28,11 @@ template <class S, class... Rest> inline void check_sizes(const char* shape, S v
     check_size(v, shape, what);
     if constexpr (sizeof...(Rest) > 0) check_sizes(shape, rest...);
 }
-/// ±1 with +1 for zero, so that a zero direction still picks a definite point of the shape.
-template <class S> [[nodiscard]] inline S sign_or_one(S v) noexcept { return v < S(0) ? S(-1) : S(1); }
+/// h with the sign of v (h ≥ 0): the extreme coordinate of a symmetric extent along v. Branch-free (a sign
+/// bit copy): the former compare-and-branch (v < 0 ? −h : h) mispredicted on GJK's varying directions and
+/// was the largest single cost of a box support query in the profile. A zero direction still picks a
+/// definite point (+0 gives +h, −0 gives −h; both are maximisers).
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE S signed_extent(S h, S v) noexcept { return std::copysign(h, v); }
 /// sqrt(x² + y²); std::hypot (a libm call, ~25 % of a cylinder support query) only where the squares
 /// would underflow or overflow.
 template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE S planar_norm(S x, S y) noexcept {
@@ -49,6 +52,7 @@ template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> disc_support(const 
 /// A ball of radius `radius` around the origin: a point core with margin `radius`.
 template <class S = double> struct Sphere {
     using Scalar = S;
+    static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
     S radius;
     explicit Sphere(S r) : radius(r) { detail::check_size(r, "sphere", "radius"); }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
@@ -62,13 +66,14 @@ template <class S = double> struct Sphere {
 /// An axis-aligned box [-h, h] (h = half extents) in its local frame.
 template <class S = double> struct Box {
     using Scalar = S;
+    static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
     Vec3<S> half;
     explicit Box(const Vec3<S>& half_extents) : half(half_extents) {
         detail::check_sizes("box", half[0], "half extent", half[1], "half extent", half[2], "half extent");
     }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
-        return {detail::sign_or_one(d.x()) * half.x(), detail::sign_or_one(d.y()) * half.y(),
-                detail::sign_or_one(d.z()) * half.z()};
+        return {detail::signed_extent(half.x(), d.x()), detail::signed_extent(half.y(), d.y()),
+                detail::signed_extent(half.z(), d.z())};
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
 };
@@ -76,12 +81,13 @@ template <class S = double> struct Box {
 /// A capsule: the segment z ∈ [-half_length, half_length] grown by `radius`.
 template <class S = double> struct Capsule {
     using Scalar = S;
+    static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
     S radius, half_length;
     Capsule(S r, S half_len) : radius(r), half_length(half_len) {
         detail::check_sizes("capsule", r, "radius", half_len, "half length");
     }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> core_support(const Vec3<S>& d) const noexcept {
-        return {S(0), S(0), detail::sign_or_one(d.z()) * half_length};
+        return {S(0), S(0), detail::signed_extent(half_length, d.z())};
     }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         return core_support(d) + radius * detail::safe_normalized(d);
@@ -93,12 +99,13 @@ template <class S = double> struct Capsule {
 /// A solid cylinder of radius `radius`, z ∈ [-half_height, half_height].
 template <class S = double> struct Cylinder {
     using Scalar = S;
+    static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
     S radius, half_height;
     Cylinder(S r, S half_h) : radius(r), half_height(half_h) {
         detail::check_sizes("cylinder", r, "radius", half_h, "half height");
     }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
-        return detail::disc_support(d, radius, detail::sign_or_one(d.z()) * half_height);
+        return detail::disc_support(d, radius, detail::signed_extent(half_height, d.z()));
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
 };
@@ -112,30 +119,36 @@ template <class S = double> struct Cone {
     }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         // The apex wins when d lies inside the cone of normals at the apex: d_z·|side| > r·|d| with the
-        // side generator length |side| = sqrt(r² + (2h)²); compared without division.
-        const S side = detail::planar_norm(radius, S(2) * half_height);
-        const bool axial_up = d.x() == S(0) && d.y() == S(0) && d.z() > S(0);
-        if (axial_up || d.z() * side > radius * d.norm()) return {S(0), S(0), half_height};
-        return detail::disc_support(d, radius, -half_height);
+        // side generator length |side| = sqrt(r² + (2h)²). Squared (d_z > 0) that is 2h·d_z > r·ρ with
+        // ρ = |(d_x, d_y)|, the rim's own norm: one sqrt for the whole query instead of three.
+        const S rho = detail::planar_norm(d.x(), d.y());
+        if (d.z() > S(0) && (S(2) * half_height * d.z() > radius * rho || !(rho > S(0))))
+            return {S(0), S(0), half_height};
+        if (!(rho > S(0))) return {S(0), S(0), -half_height};
+        return {radius * d.x() / rho, radius * d.y() / rho, -half_height};
     }
     /// The centroid, a quarter of the height above the base.
-    [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), -half_height / S(2)}; }
+    [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), center_z()}; }
+    /// Its height (it lies on the axis: GJK places it with one column of the rotation).
+    [[nodiscard]] S center_z() const noexcept { return -half_height / S(2); }
 };
 
 /// A solid axis-aligned ellipsoid with semi-axes `radii`.
 template <class S = double> struct Ellipsoid {
     using Scalar = S;
+    static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
     Vec3<S> radii;
     explicit Ellipsoid(const Vec3<S>& r) : radii(r) {
         detail::check_sizes("ellipsoid", r[0], "radius", r[1], "radius", r[2], "radius");
     }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         // argmax d·x on x = D u, |u| = 1 is D (D d)/|D d| with D = diag(radii).
-        const Vec3<S> dd = radii.cwiseProduct(d);
-        const S n = dd.norm();
+        // Per component (Eigen's packet norm reloaded d, just written by GJK, through a stalled 16-byte load).
+        const S x = radii.x() * d.x(), y = radii.y() * d.y(), z = radii.z() * d.z();
+        const S n = std::sqrt(x * x + y * y + z * z);
         if (!(n > S(0))) return {S(0), S(0), radii.z()};
         const S inv = S(1) / n;  // one division instead of three
-        return {radii.x() * dd.x() * inv, radii.y() * dd.y() * inv, radii.z() * dd.z() * inv};
+        return {radii.x() * x * inv, radii.y() * y * inv, radii.z() * z * inv};
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
 };

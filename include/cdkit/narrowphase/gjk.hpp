@@ -22,6 +22,12 @@
 /// the first one included; the warm start rebuilds the last simplex from its stored support points without
 /// support queries (they are points of the shapes, so all bounds stay certified).
 ///
+/// Cold boolean queries (`gjk_intersect` without a cache) take a leaner loop (`gjk_intersect_cold`): the
+/// first support pair in the world frame along the centre line (a distant pair is decided without forming the
+/// relative pose), squared plane tests, and Nesterov momentum on the search direction in the first few
+/// iterations (Montaut et al. 2022, above), which the boolean certificates make safe: a plane is proven by
+/// the direction actually queried, overlap by four support points around the origin.
+///
 /// Accuracy on curved shapes: near contact the support points cluster and the triangle step meets slivers
 /// whose rounded normal can put v below the simplex (|v| then under-estimates the distance and the gap test
 /// passes early); distance queries estimate that rounding and redo such steps in a wider type (`wider_t`),
@@ -64,6 +70,11 @@ template <class S = double> struct GjkSettings {
     /// of the distance upper bound (0 = at the first separating plane), so that the direction cached for the
     /// next frame still separates after a small motion. No effect on the answer, only on the work split.
     S warm_exit_quality = S(0.5);
+    /// Cold boolean queries (`gjk_intersect` without a cache): Nesterov momentum on the search direction in
+    /// iterations 2 … momentum_iterations (Montaut et al. 2022; ≤ 1 = plain GJK), on pairs without margins. It cut the iterations of close
+    /// curved pairs by up to 3.7× in the P3 benchmark; past a few iterations it mostly cost overlapping
+    /// cylinders and cones extra ones, hence the cap. Only the work depends on it, never the answer.
+    int momentum_iterations = 5;
 };
 
 /// Caller-owned warm start (van den Bergen 1999 §5, "frame coherence"): the last final simplex, as the
@@ -294,7 +305,7 @@ CDKIT_ALWAYS_INLINE void minkowski_support_into(GjkVertex<typename A::Scalar>& x
                                                 const Vec3<typename A::Scalar>& d,
                                                 std::uint32_t* hints = nullptr) noexcept {
     using S = typename A::Scalar;
-    const Vec3<S> db = -rotate_back(rel.R, d);
+    const Vec3<S> db = rotate_back(rel.R, neg(d));
     if constexpr (use_cores) {
         x.a = core_support_hinted(a, d, hints);
         x.b_local = core_support_hinted(b, db, hints ? hints + 1 : nullptr);
@@ -595,23 +606,14 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     return done(status);
 }
 
+/// The result of a query from the loop's outcome: status, distance, normal and world-frame points.
 template <SupportMapped A, SupportMapped B>
-inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
-                                               const Transform<typename A::Scalar>& pose_b,
-                                               GjkCache<typename A::Scalar>* cache,
-                                               const GjkSettings<typename A::Scalar>& settings,
-                                               bool boolean, bool retry_cached_direction = true) noexcept {
+inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                       const GjkSettings<typename A::Scalar>& settings, GjkResult<typename A::Scalar>& r,
+                       GjkStatus st, const Vec3<typename A::Scalar>& v, typename A::Scalar size,
+                       typename A::Scalar lower, const GjkVertex<typename A::Scalar>& sep, bool boolean) noexcept {
     using S = typename A::Scalar;
-    const Transform<S> rel = relative_pose(pose_a, pose_b);
     const S margin = margin_of(a) + margin_of(b);
-    GjkResult<S> r;
-    Vec3<S> v;
-    S size, lower;
-    GjkVertex<S> sep;
-    sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
-    GjkStatus st = gjk_loop<true>(a, b, rel, settings, cache, boolean, margin, r.simplex, v, size, r.iterations,
-                                  lower, boolean && cache ? settings.warm_exit_quality : S(0), &sep,
-                                  retry_cached_direction);
     const S tiny = settings.touch_factor * std::numeric_limits<S>::epsilon() * std::max(size, margin);
     if (boolean && st == GjkStatus::separated && lower > margin + tiny) {
         r.status = GjkStatus::separated;
@@ -626,7 +628,7 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
                 r.point_b = place(pose_a, Vec3<S>(sep.b - margin_of(b) * n));
             }
         }
-        return r;
+        return;
     }
     // Witness points on the cores, then push them out by the margins along the normal.
     Vec3<S> pa = Vec3<S>::Zero(), pb = Vec3<S>::Zero();
@@ -637,7 +639,7 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
     if (st == GjkStatus::intersecting) {
         r.status = GjkStatus::intersecting;
         r.distance = S(0);
-        return r;
+        return;
     }
     S core = v.norm();
     Vec3<S> n = core > S(0) ? Vec3<S>(-v / core) : Vec3<S>::Zero();  // from A towards B
@@ -650,15 +652,211 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
     if (st == GjkStatus::max_iterations || st == GjkStatus::degenerate) {
         r.status = st;
         r.distance = std::max(dist, S(0));
-        return r;
+        return;
     }
     if (st == GjkStatus::touching || std::abs(dist) <= tiny) {
         r.status = margin > S(0) && dist < -tiny ? GjkStatus::intersecting : GjkStatus::touching;
         r.distance = S(0);
-        return r;
+        return;
     }
     r.status = dist > S(0) ? GjkStatus::separated : GjkStatus::intersecting;
     r.distance = std::max(dist, S(0));
+}
+
+/// Cold boolean query (no cache): the loop of `gjk_loop` reduced to what a yes/no answer needs, with the
+/// early exit's result built in place. The separation test compares squares (v·w > (margin + tol)·|v| needs
+/// no sqrt; the margin-free case none at all), the one sqrt and division are paid when a plane is found; no
+/// lower-bound bookkeeping, no cache, no wide-type refinement (booleans never used it). The certificates are
+/// those of gjk_loop: a support point w along −v with v·w > (margin + tol)·|v| proves separation for any v;
+/// four points of D around the origin prove overlap; otherwise the query converges on |v| and gjk_finish
+/// decides as for gjk_loop's outcome.
+template <SupportMapped A, SupportMapped B>
+inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                               const Transform<typename A::Scalar>& pose_b,
+                               const GjkSettings<typename A::Scalar>& settings,
+                               GjkResult<typename A::Scalar>& r) noexcept {
+    using S = typename A::Scalar;
+    using Solver = SimplexSolver<S>;
+    const S eps = std::numeric_limits<S>::epsilon();
+    const S ma = margin_of(a), mb = margin_of(b), margin = ma + mb;
+    const S tf = settings.touch_factor * eps;
+    GjkSimplex<S>& s = r.simplex;
+    s.size = 0;
+    std::uint32_t hints[2] = {std::uint32_t(-1), std::uint32_t(-1)};
+    // Plane test: v·w/|v| > margin + 256·ε·max(size, margin) (the threshold gjk_finish uses), in squares so
+    // that a failing test costs no sqrt (none at all without margins).
+    auto separates = [&](S vw, S vv, S size2) {
+        if (!(vw > S(0))) return false;
+        S thr2;
+        if (margin > S(0)) {
+            const S thr = margin + tf * std::max(std::sqrt(size2), margin);
+            thr2 = thr * thr;
+        } else {
+            thr2 = tf * tf * size2;
+        }
+        return vw * vw > thr2 * vv;
+    };
+    // First iteration in the world frame, along the line between the centres (a separating direction for
+    // most distant pairs): one support pair decides them without the relative pose, and the exit's normal
+    // and supporting points are already world-frame (no transforms back).
+    Vec3<S> vw_dir = minus(world_center(a, pose_a), world_center(b, pose_b));
+    S vv = norm2(vw_dir);
+    if (!(vv > S(0)) || !(vv <= std::numeric_limits<S>::max())) { vw_dir = Vec3<S>::UnitX(); vv = S(1); }
+    const Vec3<S> da = rotate_back(pose_a.R, neg(vw_dir));  // A's support direction, A's frame
+    const Vec3<S> db = rotate_back(pose_b.R, vw_dir);            // B's, B's frame
+    const Vec3<S> sa = core_support_hinted(a, da, hints);
+    const Vec3<S> sb = core_support_hinted(b, db, hints + 1);
+    const Vec3<S> pa = place(pose_a, sa), pb = place(pose_b, sb);
+    const Vec3<S> w0 = minus(pa, pb);
+    S size2 = norm2(w0);
+    if (!(size2 <= std::numeric_limits<S>::max())) {  // NaN or inf
+        r.iterations = 1;
+        s.size = 0;
+        r.status = GjkStatus::degenerate;
+        r.distance = S(0);
+        return;
+    }
+    const S vw0 = dot3(vw_dir, w0);
+    if (separates(vw0, vv, size2)) {
+        const S inv = S(1) / std::sqrt(vv);
+        const Vec3<S> n = Vec3<S>(-vw_dir[0] * inv, -vw_dir[1] * inv, -vw_dir[2] * inv);  // A towards B
+        r.iterations = 1;
+        r.status = GjkStatus::separated;
+        r.distance = vw0 * inv - margin;
+        r.normal = n;
+        r.point_a = plus_scaled(pa, ma, n);
+        r.point_b = plus_scaled(pb, -mb, n);
+        return;
+    }
+    // Otherwise the loop, in A's frame, from that support point.
+    const Transform<S> rel = relative_pose(pose_a, pose_b);
+    {
+        GjkVertex<S>& x = s.v[0];
+        x.a = sa;
+        x.b_local = sb;
+        x.b = place(rel, sb);
+        x.w = minus(x.a, x.b);
+        x.d = da;
+        s.size = 1;
+        s.lambda[0] = S(1);
+    }
+    Vec3<S> v = s.v[0].w;
+    vv = norm2(v);
+    if (!(vv > tf * tf * size2)) {
+        r.iterations = 1;
+        gjk_finish(a, pose_a, b, settings, r, GjkStatus::touching, v, std::sqrt(size2), S(0), s.v[0], true);
+        return;
+    }
+    typename Solver::Sel sel;
+    GjkStatus status = GjkStatus::max_iterations;
+    int it = 1;
+    // Nesterov momentum (Montaut et al., RSS 2022, "Collision detection accelerated: an optimization
+    // perspective"): query along d_k = δ_k d_{k−1} + (1 − δ_k) y_k with
+    // y_k = δ_k v_k + (1 − δ_k) w_k (w_k the last support point), δ_k = (k + 1)/(k + 3), instead of along v_k.
+    // The boolean certificates do not depend on the direction (a plane is proven by the direction actually
+    // queried; overlap by four points of D around the origin), so momentum only changes the work. When it
+    // stalls (a repeated point, or a point that does not shorten v) it is switched off and the query goes on
+    // as plain GJK, whose convergence tests need w to be the support along −v.
+    // Not on margin pairs: their cores are points and segments (spheres, capsules), polytopes on which plain
+    // GJK ends in two or three iterations; momentum took close capsule pairs from 2.3 to 3.0.
+    bool momentum = settings.momentum_iterations > 1 && !(margin > S(0));
+    Vec3<S> d_prev = Vec3<S>(-da), w_last = s.v[0].w;
+    while (it < settings.max_iterations) {
+        ++it;
+        Vec3<S> d = v;
+        if (momentum && it > settings.momentum_iterations) momentum = false;
+        if (momentum) {
+            const S k = S(it - 1);
+            const S delta = (k + S(1)) / (k + S(3));
+            const S c = S(1) - delta;
+            for (int k3 = 0; k3 < 3; ++k3) d[k3] = delta * d_prev[k3] + c * (delta * v[k3] + c * w_last[k3]);
+        }
+        GjkVertex<S>& x = s.v[std::size_t(s.size)];
+        minkowski_support_into<true>(x, a, b, rel, neg(d), hints);
+        const S w2 = norm2(x.w);
+        if (!(w2 <= std::numeric_limits<S>::max())) { status = GjkStatus::degenerate; break; }  // NaN or inf
+        size2 = std::max(size2, w2);
+        const S dw = dot3(d, x.w);
+        const S dd = momentum ? norm2(d) : vv;
+        if (separates(dw, dd, size2)) {
+            const S inv = S(1) / std::sqrt(dd);
+            const Vec3<S> n = Vec3<S>(-d[0] * inv, -d[1] * inv, -d[2] * inv);  // A towards B, in A's frame
+            r.iterations = it;
+            r.status = GjkStatus::separated;
+            r.distance = dw * inv - margin;
+            r.normal = rotate(pose_a.R, n);
+            r.point_a = place(pose_a, plus_scaled(x.a, ma, n));
+            r.point_b = place(pose_a, plus_scaled(x.b, -mb, n));
+            return;
+        }
+        bool duplicate = false;
+        for (int i = 0; i < s.size; ++i) {
+            const Vec3<S>& q = s.v[std::size_t(i)].w;
+            duplicate = duplicate || (q[0] == x.w[0] && q[1] == x.w[1] && q[2] == x.w[2]);
+        }
+        if (momentum) {
+            d_prev = d;
+            if (duplicate) { momentum = false; continue; }
+        } else {
+            // Converged on |v| (v a point of D): as gjk_loop; gjk_finish then decides touching / separated.
+            const S vw = dw;
+            S rel_term = settings.rel_tolerance * vv;
+            if (margin > S(0)) {
+                const S core = std::sqrt(vv);
+                if (core > margin) rel_term = settings.rel_tolerance * core * (core - margin);
+            }
+            const S excess = vv - vw - rel_term;
+            if (excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2) {
+                status = GjkStatus::separated;
+                break;
+            }
+            if (duplicate) { status = GjkStatus::separated; break; }
+        }
+        const int old_size = s.size++;
+        Solver::select(s, sel);
+        if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
+        const S nvv = norm2(sel.v);
+        if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
+        if (nvv <= tf * tf * size2) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
+        if (!(nvv < vv)) {
+            s.size = old_size;
+            if (momentum) { momentum = false; continue; }
+            status = GjkStatus::separated;
+            break;
+        }
+        w_last = s.v[std::size_t(old_size)].w;
+        Solver::apply(s, sel);
+        v = sel.v;
+        vv = nvv;
+    }
+    r.iterations = it;
+    GjkVertex<S> none;
+    none.w.setConstant(std::numeric_limits<S>::quiet_NaN());
+    gjk_finish(a, pose_a, b, settings, r, status, v, std::sqrt(size2), S(0), none, true);
+}
+
+template <SupportMapped A, SupportMapped B>
+inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                               const Transform<typename A::Scalar>& pose_b,
+                                               GjkCache<typename A::Scalar>* cache,
+                                               const GjkSettings<typename A::Scalar>& settings,
+                                               bool boolean, bool retry_cached_direction = true) noexcept {
+    using S = typename A::Scalar;
+    GjkResult<S> r;
+    if (boolean && !cache) {
+        gjk_intersect_cold(a, pose_a, b, pose_b, settings, r);
+        return r;
+    }
+    const Transform<S> rel = relative_pose(pose_a, pose_b);
+    const S margin = margin_of(a) + margin_of(b);
+    Vec3<S> v;
+    S size, lower;
+    GjkVertex<S> sep;
+    sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
+    GjkStatus st = gjk_loop<true>(a, b, rel, settings, cache, boolean, margin, r.simplex, v, size, r.iterations,
+                                  lower, boolean && cache ? settings.warm_exit_quality : S(0), &sep,
+                                  retry_cached_direction);
+    gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
     return r;
 }
 
