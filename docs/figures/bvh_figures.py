@@ -14,6 +14,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from hull2d import hull as hull2d
 from matplotlib.collections import PolyCollection
 from matplotlib.patches import Circle, Polygon
 
@@ -31,25 +32,6 @@ def load_obj(path):
             elif parts[0] == "f":
                 triangles.append([int(p.split("/")[0]) - 1 for p in parts[1:4]])
     return np.array(vertices), np.array(triangles)
-
-
-def hull2d(points):
-    """Convex hull of 2D points, counter-clockwise (Andrew's monotone chain)."""
-    pts = sorted(map(tuple, points))
-
-    def cross(o, a, b):
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower, upper = [], []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return np.array(lower[:-1] + upper[:-1])
 
 
 def node_patch(row, color):
