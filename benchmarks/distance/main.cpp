@@ -140,7 +140,9 @@ int main(int argc, char** argv) {
         BuildOptions leaf4;
         leaf4.max_leaf_triangles = 4;
         leaf4.split = rss_opt.split;
-        const MeshModel<Rss<double>> m_rss_median(mesh);
+        BuildOptions median;  // the default is SAH now: the median row must ask for it
+        median.split = SplitStrategy::median;
+        const MeshModel<Rss<double>> m_rss_median(mesh, median);
         const MeshModel<Rss<double>> m_rss4(mesh, leaf4);
         t0 = Clock::now();
         const auto f_rss = test::fcl_mesh<fcl::RSSd>(*mesh);

@@ -5,17 +5,20 @@
 /// Method: branch and bound over both trees (the scheme of Larsen, Gottschalk, Lin, Manocha, "Fast
 /// proximity queries with swept sphere volumes", UNC TR99-018, 1999, used by PQP and FCL). The query works
 /// in A's model frame with the relative transform pose_a⁻¹·pose_b, like collide(). Open node pairs are kept
-/// in a heap by their BV lower bound (bv/bv_distance.hpp; bv/rss.hpp) and the smallest is expanded first,
-/// diving along the nearer child down to a leaf pair so that a good upper bound comes at once (the farther
-/// child goes to the heap). Best first expands only pairs whose bound is below the current answer: on the
-/// benchmark meshes it tests about half the node pairs of a depth-first nearer-child-first descent and a
-/// third of its triangle pairs. A node pair is pruned when its lower bound is at least
-/// (best − abs_err)/(1 + rel_err), which guarantees   best ≤ (1 + rel_err)·true + abs_err.
+/// in a heap by their BV lower bound (bv/bv_distance.hpp; bv/rss.hpp) and the smallest is always expanded
+/// next (pure best first; the nearer child skips the heap while it is still the smallest). A pair is thus
+/// expanded only when its bound is below the current answer and, since the pair holding the closest
+/// triangles is reached before any pair whose bound exceeds their distance, almost only the pairs whose
+/// bound is below the final answer. Each bound is told the current threshold and stops as soon as the pair
+/// is known to be pruned or kept (the Rss bound's projections: rectangle_gap in bv/rss.hpp).
+/// A node pair is pruned when its lower bound is at least (best − abs_err)/(1 + rel_err), which guarantees
+///   best ≤ (1 + rel_err)·true + abs_err.
 /// With both errors 0 the answer is the minimum of triangle_distance() over all pairs, bit for bit the
 /// value distance_brute_force() computes (same routine, same rounded vertices): a pair is pruned only when
 /// its bound, which never exceeds any of its triangle pairs' computed distances, reaches the best value.
 /// The tightest volume for this is Rss (a rectangle swept by a sphere); Obb and Aabb work too.
-/// Queries are const and thread-safe, and never throw.
+/// Queries are const and thread-safe, and never throw (except std::bad_alloc when the open-pair heap grows:
+/// a thread_local vector whose storage the thread's later queries reuse, so no allocation per query).
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
@@ -84,6 +87,48 @@ concept MovableDistanceBound = requires(const BV& b, const Mat3<typename BV::Sca
     { distance_lower_bound_same_frame(b, b, s, s) } -> std::same_as<typename BV::Scalar>;
 };
 
+/// An open node pair of distance(): node indices into A's and B's trees and the pair's lower bound.
+template <class S> struct OpenPair {
+    std::uint32_t a, b;
+    S bound;
+};
+
+/// A binary min-heap on OpenPair::bound, in a vector (std::push_heap's order, with a replace-top that sifts
+/// once where pop then push would sift twice).
+template <class S> inline void heap_push(std::vector<OpenPair<S>>& h, const OpenPair<S>& x) {
+    std::size_t i = h.size();
+    h.push_back(x);
+    while (i > 0) {
+        const std::size_t parent = (i - 1) / 2;
+        if (!(x.bound < h[parent].bound)) break;
+        h[i] = h[parent];
+        i = parent;
+    }
+    h[i] = x;
+}
+/// Replaces the smallest item by x and restores the heap.
+template <class S> inline void heap_replace_top(std::vector<OpenPair<S>>& h, const OpenPair<S>& x) noexcept {
+    const std::size_t n = h.size();
+    std::size_t i = 0;
+    while (true) {
+        std::size_t c = 2 * i + 1;
+        if (c >= n) break;
+        if (c + 1 < n && h[c + 1].bound < h[c].bound) ++c;
+        if (!(h[c].bound < x.bound)) break;
+        h[i] = h[c];
+        i = c;
+    }
+    h[i] = x;
+}
+/// Removes and returns the smallest item (h not empty).
+template <class S> [[nodiscard]] inline OpenPair<S> heap_pop(std::vector<OpenPair<S>>& h) noexcept {
+    const OpenPair<S> top = h.front();
+    const OpenPair<S> last = h.back();
+    h.pop_back();
+    if (!h.empty()) heap_replace_top(h, last);
+    return top;
+}
+
 template <class S> inline void distance_to_world(const Transform<S>& pose_a, DistanceResult<S>& out) noexcept {
     out.point_a = pose_a * out.point_a;
     out.point_b = pose_a * out.point_b;
@@ -122,66 +167,71 @@ template <class BV, class M>
     // Pairs whose bound reaches this are pruned; +inf until a first triangle pair is measured.
     const auto threshold = [&]() noexcept { return (out.distance - abs_err) * scale; };
 
-    struct Item { std::uint32_t a, b; S bound; };
-    // Best first with a dive: the open pair of smallest bound is taken from a heap, then descended along the
-    // nearer child down to a leaf pair while the farther child goes to the heap. The dive reaches a good
-    // first upper bound at once; the heap order then expands only pairs whose bound is below the answer's
-    // current value, and once the smallest open bound reaches the threshold everything left is pruned.
-    const auto later = [](const Item& x, const Item& y) noexcept { return x.bound > y.bound; };
-    std::vector<Item> heap;
-    heap.reserve(128);
+    using Item = detail::OpenPair<S>;
+    // Best first: the open pair of smallest bound is expanded next, so only pairs whose bound is below the
+    // answer are expanded (the pair holding the closest triangles is reached before any pair whose bound
+    // exceeds their distance), and once the smallest open bound reaches the threshold everything left is
+    // pruned. The nearer child is expanded directly when it is still the smallest (no heap round trip);
+    // otherwise it swaps places with the heap's top. (A depth-first dive along the nearer child to a first
+    // leaf pair, which this replaced, found its upper bound sooner but needed a third more bound evaluations on
+    // the bunny benchmark at δ = 0.005 r: 1013 against 756.)
+    // The heap's storage is reused by the thread's later queries: no allocation once it has grown.
+    static thread_local std::vector<Item> heap;
+    heap.clear();
     ++out.stats.bv_tests;
-    heap.push_back({0, 0, distance_lower_bound(na[0].bv, nb[0].bv, rel)});
-    while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end(), later);
-        Item it = heap.back();
-        heap.pop_back();
-        if (it.bound >= threshold()) break;  // the smallest open bound: nothing left can improve
-        while (true) {
-            const BvhNode<BV>& x = na[it.a];
-            const BvhNode<BV>& y = nb[it.b];
-            const bool xl = x.is_leaf(), yl = y.is_leaf();
-            if (xl && yl) {
-                for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
-                    for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
-                        detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out);
-                break;
-            }
-            // Split the larger volume (or the one that is not a leaf).
-            Item c0, c1;
-            const S th = threshold();
-            const auto bv_th = static_cast<typename BV::Scalar>(th);  // only an early-out hint to the bound
-            if (yl || (!xl && x.bv.size() >= y.bv.size())) {
-                if constexpr (detail::MovableDistanceBound<BV>) {
-                    // y moved into A's frame once for both children of x.
-                    const BV moved = transformed(y.bv, rel.R, rel.t);
-                    c0 = {x.first, it.b, distance_lower_bound_same_frame(na[x.first].bv, moved, rel.slack, bv_th)};
-                    c1 = {x.first + 1, it.b, distance_lower_bound_same_frame(na[x.first + 1].bv, moved, rel.slack, bv_th)};
-                } else {
-                    c0 = {x.first, it.b, distance_lower_bound(na[x.first].bv, y.bv, rel, bv_th)};
-                    c1 = {x.first + 1, it.b, distance_lower_bound(na[x.first + 1].bv, y.bv, rel, bv_th)};
-                }
+    Item it{0, 0, distance_lower_bound(na[0].bv, nb[0].bv, rel)};
+    while (it.bound < threshold()) {  // `it` is the smallest open pair: when it fails, all do
+        const BvhNode<BV>& x = na[it.a];
+        const BvhNode<BV>& y = nb[it.b];
+        const bool xl = x.is_leaf(), yl = y.is_leaf();
+        if (xl && yl) {
+            for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
+                for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
+                    detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out);
+            if (heap.empty() || out.distance == S(0)) break;  // 0: intersecting, nothing can be nearer
+            it = detail::heap_pop(heap);
+            continue;
+        }
+        // Split the larger volume (or the one that is not a leaf).
+        Item c0, c1;
+        const S th = threshold();
+        // Only an early-out hint to the bound: finite even before the first triangle pair, so that the Rss
+        // bound stops its projections as soon as the pair is known to be kept (see rectangle_gap).
+        using B = typename BV::Scalar;
+        const auto bv_th = static_cast<B>(std::min<S>(th, S(std::numeric_limits<B>::max())));
+        if (yl || (!xl && x.bv.size() >= y.bv.size())) {
+            if constexpr (detail::MovableDistanceBound<BV>) {
+                // y moved into A's frame once for both children of x.
+                const BV moved = transformed(y.bv, rel.R, rel.t);
+                c0 = {x.first, it.b, distance_lower_bound_same_frame(na[x.first].bv, moved, rel.slack, bv_th)};
+                c1 = {x.first + 1, it.b, distance_lower_bound_same_frame(na[x.first + 1].bv, moved, rel.slack, bv_th)};
             } else {
-                if constexpr (detail::MovableDistanceBound<BV>) {
-                    // x moved into B's frame once for both children of y.
-                    const BV moved = transformed(x.bv, inv.R, inv.t);
-                    c0 = {it.a, y.first, distance_lower_bound_same_frame(nb[y.first].bv, moved, inv.slack, bv_th)};
-                    c1 = {it.a, y.first + 1, distance_lower_bound_same_frame(nb[y.first + 1].bv, moved, inv.slack, bv_th)};
-                } else {
-                    c0 = {it.a, y.first, distance_lower_bound(x.bv, nb[y.first].bv, rel, bv_th)};
-                    c1 = {it.a, y.first + 1, distance_lower_bound(x.bv, nb[y.first + 1].bv, rel, bv_th)};
-                }
+                c0 = {x.first, it.b, distance_lower_bound(na[x.first].bv, y.bv, rel, bv_th)};
+                c1 = {x.first + 1, it.b, distance_lower_bound(na[x.first + 1].bv, y.bv, rel, bv_th)};
             }
-            out.stats.bv_tests += 2;
-            if (c1.bound < c0.bound) std::swap(c0, c1);
-            if (c1.bound < th) {
-                heap.push_back(c1);
-                std::push_heap(heap.begin(), heap.end(), later);
+        } else {
+            if constexpr (detail::MovableDistanceBound<BV>) {
+                // x moved into B's frame once for both children of y.
+                const BV moved = transformed(x.bv, inv.R, inv.t);
+                c0 = {it.a, y.first, distance_lower_bound_same_frame(nb[y.first].bv, moved, inv.slack, bv_th)};
+                c1 = {it.a, y.first + 1, distance_lower_bound_same_frame(nb[y.first + 1].bv, moved, inv.slack, bv_th)};
+            } else {
+                c0 = {it.a, y.first, distance_lower_bound(x.bv, nb[y.first].bv, rel, bv_th)};
+                c1 = {it.a, y.first + 1, distance_lower_bound(x.bv, nb[y.first + 1].bv, rel, bv_th)};
             }
-            if (!(c0.bound < th)) break;
+        }
+        out.stats.bv_tests += 2;
+        if (c1.bound < c0.bound) std::swap(c0, c1);
+        if (c1.bound < th) detail::heap_push(heap, c1);
+        if (!(c0.bound < th)) {
+            if (heap.empty()) break;
+            it = detail::heap_pop(heap);
+        } else if (!heap.empty() && heap.front().bound < c0.bound) {
+            it = heap.front();
+            detail::heap_replace_top(heap, c0);
+        } else {
             it = c0;
         }
-        if (out.distance == S(0)) break;  // intersecting: nothing can be nearer
     }
     detail::distance_to_world(pose_a, out);
     return out;

@@ -1,8 +1,9 @@
 // Rss (rectangle swept sphere): fits contain their vertices; the distance lower bound never exceeds the
 // exact RSS distance (rectangles as two triangles each, triangle_distance, minus both radii) on random and
 // adversarial configurations (parallel, touching, nested, degenerate, far from the origin) and is close to
-// it on random ones; overlap() is conservative; merge and float narrowing hold what they enclose; collide()
-// over Rss trees equals brute force. Fixed seeds.
+// it on random ones, and with a cutoff (the early stops distance() uses) still below it and still reaching
+// every cutoff the full bound reaches; overlap() is conservative; merge and float narrowing hold what they
+// enclose; collide() over Rss trees equals brute force; refit from vertices in kept frames. Fixed seeds.
 #include "bvh/brute_force_check.hpp"
 
 #include "cdkit/bv/bv_distance.hpp"
@@ -51,6 +52,12 @@ template <class S> Vec3<S> point_in(const Rss<S>& b, std::mt19937_64& rng) {
     const Vec3<double> p = b.center.template cast<double>() + b.axes.col(0).template cast<double>() * (u(rng) * double(b.half[0])) +
                            b.axes.col(1).template cast<double>() * (u(rng) * double(b.half[1])) + d * 0.999 * double(b.radius);
     return p.cast<S>();
+}
+
+// The volume in scalar S: itself, or narrowed outward to float (holding the double one).
+template <class S> Rss<S> narrow_or_same(const Rss<double>& b) {
+    if constexpr (std::is_same_v<S, double>) return b;
+    else return narrow_outward(b);
 }
 
 }  // namespace
@@ -169,6 +176,45 @@ TEST_CASE("RSS distance lower bound never exceeds the exact distance, and is clo
     }
 }
 
+// distance() passes its pruning threshold as the cutoff; the bound then stops early both ways (rss.hpp,
+// rectangle_gap): it must stay a lower bound, and must still reach a cutoff that the full bound reaches.
+TEMPLATE_TEST_CASE("RSS distance bound with a cutoff stays below the exact distance and prunes what the full bound prunes",
+                   "[bv][rss][distance]", float, double) {
+    using S = TestType;
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const int n = test::scaled(1500, 100);
+    int reached = 0, stopped_low = 0;
+    for (int k = 0; k < n; ++k) {
+        const Rss<double> a = random_rss(rng, 0.3), b = random_rss(rng, 0.3);
+        const Transform<double> rel(test::random_rotation<double>(rng), Vec3<double>(2 * u(rng), 2 * u(rng), 2 * u(rng)));
+        const double ex = exact_rss_distance(a, b, rel);
+        const Rss<S> as = narrow_or_same<S>(a), bs = narrow_or_same<S>(b);
+        const auto r = Rss<S>::relative(rel.template cast<S>());
+        const double full = double(distance_lower_bound(as, bs, r));
+        // Float volumes hold the double ones; the float rotation's rounding is within the bound's margin.
+        const double tol = std::is_same_v<S, float> ? 1e-5 : 0.0;
+        REQUIRE(full <= ex + tol);
+        for (const double f : {0.0, 0.3, 0.7, 0.95, 1.05, 1.5, 3.0}) {
+            const S cutoff = S(f * (full > 0 ? full : ex + 0.1));
+            const double cut = double(distance_lower_bound(as, bs, r, cutoff));
+            INFO("k " << k << " f " << f << " full " << full << " cut " << cut << " exact " << ex);
+            REQUIRE(cut >= 0);
+            REQUIRE(cut <= ex + tol);
+            // Up to the bound's own rounding margin (distance_rounding.hpp).
+            if (full >= double(cutoff)) {
+                CHECK(cut >= double(cutoff) - 1e-4 * (std::is_same_v<S, float> ? 1.0 : 1e-8));
+                ++reached;
+            } else if (cut < full) {
+                ++stopped_low;  // kept either way, with a looser (cheaper) bound
+            }
+        }
+    }
+    // Both ways exercised (about 4n and n here).
+    CHECK(reached > 2 * n);
+    CHECK(stopped_low > n / 4);
+}
+
 TEMPLATE_TEST_CASE("RSS overlap is conservative on random volumes and culls", "[bv][rss]", float, double) {
     using S = TestType;
     std::mt19937_64 rng(42);
@@ -248,4 +294,39 @@ TEST_CASE("RSS refit keeps the tree valid", "[bvh][rss]") {
     MeshModel<Rss<double>> m(test::uv_sphere<double>(0.8, 10, 16));
     m.refit(std::make_shared<const TriangleMesh<double>>(test::deformed(m.mesh(), 0.2)));
     REQUIRE_NOTHROW(m.validate());
+}
+
+// Rss refit fits every node from its vertices in its kept frame (bvh/refit.hpp), like Obb: unmoved, the
+// tree is as tight as built; bent, it stays valid and tight, and distance() on it is exact.
+TEMPLATE_TEST_CASE("RSS refit from vertices: as tight as built when unmoved, exact distance when bent",
+                   "[bvh][rss][refit][distance]", Rss<float>, Rss<double>) {
+    using BV = TestType;
+    BuildOptions sah;
+    sah.split = SplitStrategy::sah;
+    const auto base = std::make_shared<const TriangleMesh<double>>(test::uv_sphere<double>(0.8, 10, 16));
+    MeshModel<BV, double> m(base, sah);
+    m.refit(base);
+    REQUIRE_NOTHROW(m.validate());
+    // Unmoved: the built tree's summed surface area (the nodes may differ in the last bits: the build fits
+    // from moments about a common origin).
+    CHECK(m.degradation() == Approx(1.0).epsilon(std::is_same_v<BV, Rss<double>> ? 1e-9 : 1e-3));
+    // What the refit used to do, inner nodes as Rss::merge of their children: much looser.
+    Bvh<BV> merged = m.bvh();
+    for (std::size_t i = merged.nodes().size(); i-- > 0;) {
+        const auto& n = merged.nodes()[i];
+        if (!n.is_leaf()) merged.set_volume(i, BV::merge(merged.nodes()[n.first].bv, merged.nodes()[n.first + 1].bv));
+    }
+    // (uv_sphere 10×16: 249 against ~1500.)
+    CHECK(total_surface_area(merged) > 3 * total_surface_area(m.bvh()));
+    const auto bent = std::make_shared<const TriangleMesh<double>>(test::deformed(*base, 0.05));
+    m.refit(bent);
+    REQUIRE_NOTHROW(m.validate());
+    CHECK(m.degradation() < 1.3);
+    std::mt19937_64 rng(21);
+    for (int k = 0; k < test::scaled(6, 2); ++k) {
+        const Transform<double> pb(test::random_rotation<double>(rng), Vec3<double>(1.7, 0.05 * k, -0.02 * k));
+        INFO("pose " << k);
+        CHECK(distance(m, Transform<double>(), m, pb).distance ==
+              distance_brute_force(*bent, Transform<double>(), *bent, pb).distance);
+    }
 }

@@ -1,7 +1,7 @@
 // distance() on BVHs against distance_brute_force() (same triangle routine, so equal values when no error
 // is allowed), the error bound when one is, closest points on their triangles, intersecting poses, parallel
 // faces, degenerate triangles, both scalars, Aabb, Obb and Rss (also float Rss over double meshes, and SAH-built
-// trees), the traversal's pruning at work, and concurrent queries. Fixed seeds.
+// trees), the traversal's pruning at work, concurrent queries and the reused per-thread heap. Fixed seeds.
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
@@ -292,4 +292,30 @@ TEST_CASE("distance over RSS trees prunes: far fewer triangle pairs than brute f
         CHECK(r.stats.primitive_tests < 300);  // of 768² ≈ 590k pairs
         CHECK(r.stats.bv_tests < 2000);
     }
+}
+
+TEST_CASE("distance: the thread's reused open-pair heap carries nothing from one query to the next", "[distance]") {
+    // A query with many open pairs, then tiny and intersecting ones, then the first again: each answer
+    // equals brute force and the repeat equals the first bit for bit (same work counters too).
+    const MeshModel<Rss<double>> sphere(test::uv_sphere<double>(0.5, 12, 16));
+    TriangleMesh<double> one;
+    one.vertices = {Vec3<double>(0, 0, 0), Vec3<double>(1, 0, 0), Vec3<double>(0, 1, 0)};
+    one.triangles = {{0, 1, 2}};
+    const MeshModel<Rss<double>> tri(one);
+    const Transform<double> far(Mat3<double>::Identity(), Vec3<double>(1.05, 0.02, 0.01));
+    const Transform<double> near(Mat3<double>::Identity(), Vec3<double>(0.3, 0.2, 0.1));
+    const auto big = distance(sphere, Transform<double>(), sphere, far);
+    REQUIRE(big.distance == distance_brute_force(sphere.mesh(), Transform<double>(), sphere.mesh(), far).distance);
+    CHECK(big.stats.bv_tests > 20);
+    const auto small = distance(tri, Transform<double>(), tri, far);
+    CHECK(small.distance == distance_brute_force(one, Transform<double>(), one, far).distance);
+    const auto hit = distance(sphere, Transform<double>(), tri, near);
+    CHECK(hit.distance == 0);
+    CHECK(collide(sphere, Transform<double>(), tri, near).colliding);
+    const auto again = distance(sphere, Transform<double>(), sphere, far);
+    CHECK(again.distance == big.distance);
+    CHECK(again.triangle_a == big.triangle_a);
+    CHECK(again.triangle_b == big.triangle_b);
+    CHECK(again.stats.bv_tests == big.stats.bv_tests);
+    CHECK(again.stats.primitive_tests == big.stats.primitive_tests);
 }

@@ -211,29 +211,45 @@ namespace detail {
 /// its normal), all in A's frame. The largest projection gap over A's normal, B's normal and the direction
 /// between the points reached by a few alternating closest-point projections (a lower bound on any
 /// direction; exact along the closest points' direction). Not lowered for rounding (the caller does).
+///
+/// `enough` (finite): the caller prunes the pair once the gap reaches it, so the projections stop as soon as
+/// that is decided either way: when the gap reaches `enough`, or when the points p ∈ A, q ∈ B found so far
+/// are nearer than `enough` (|q − p| bounds the rectangles' distance from above, so no direction's gap can
+/// reach it). In the second case the bound may be looser than the full one: it then only orders the pairs
+/// the caller keeps (on the bunny benchmark: ~8% more bound evaluations at ~25% less cost each).
 template <class S>
-[[nodiscard]] inline S rectangle_gap(S a0, S a1, S b0, S b1, const Mat3<S>& Rb, const Vec3<S>& T) noexcept {
+[[nodiscard]] inline S rectangle_gap(S a0, S a1, S b0, S b1, const Mat3<S>& Rb, const Vec3<S>& T,
+                                     S enough = std::numeric_limits<S>::infinity()) noexcept {
     const Vec3<S> u = Rb.col(0), v = Rb.col(1), w = Rb.col(2);
     S gap = std::abs(T.z()) - (b0 * std::abs(u.z()) + b1 * std::abs(v.z()));
     gap = std::max(gap, std::abs(w.dot(T)) - (a0 * std::abs(w.x()) + a1 * std::abs(w.y())));
-    // Alternating projections from B's centre: p the point of A nearest q, q the point of B nearest p.
-    Vec3<S> q = T, p;
-    // Three rounds: more tighten the bound by under 1% of the pairs a query tests (bunny benchmark).
-    for (int k = 0; k < 3; ++k) {
-        p = Vec3<S>(std::clamp(q.x(), -a0, a0), std::clamp(q.y(), -a1, a1), S(0));
-        const Vec3<S> e = p - T;
-        const Vec3<S> next = T + std::clamp(u.dot(e), -b0, b0) * u + std::clamp(v.dot(e), -b1, b1) * v;
-        if (next == q) break;
-        q = next;
-    }
-    const Vec3<S> n = q - p;
-    const S nn = n.squaredNorm();
-    if (nn > S(0)) {
+    if (!(gap < enough) || enough <= S(0)) return gap;
+    const bool cut = enough < std::numeric_limits<S>::infinity();
+    const S enough2 = enough * enough;
+    const auto direction = [&](const Vec3<S>& n, S nn) noexcept {
+        if (!(nn > S(0))) return;
         const S g = std::abs(n.dot(T)) -
                     (a0 * std::abs(n.x()) + a1 * std::abs(n.y()) + b0 * std::abs(n.dot(u)) + b1 * std::abs(n.dot(v)));
         // g / |n| > gap  ⇔  g² > gap²·|n|² (g > 0): the square root only for a new maximum.
         if (g > S(0) && (gap <= S(0) || g * g > gap * gap * nn)) gap = g / std::sqrt(nn);
+    };
+    // Alternating projections from B's centre: p the point of A nearest q, q the point of B nearest p.
+    Vec3<S> q = T, n;
+    // At most three rounds: more tighten the bound by under 1% of the pairs a query tests (bunny benchmark).
+    for (int k = 0; k < 3; ++k) {
+        const Vec3<S> p(std::clamp(q.x(), -a0, a0), std::clamp(q.y(), -a1, a1), S(0));
+        const Vec3<S> e = p - T;
+        const Vec3<S> next = T + std::clamp(u.dot(e), -b0, b0) * u + std::clamp(v.dot(e), -b1, b1) * v;
+        n = next - p;
+        if (cut) {
+            const S nn = n.squaredNorm();
+            direction(n, nn);
+            if (gap >= enough || nn < enough2) return gap;
+        }
+        if (next == q) break;
+        q = next;
     }
+    if (!cut) direction(n, n.squaredNorm());
     return gap;
 }
 
@@ -255,15 +271,21 @@ template <class S>
                                                        S cutoff = std::numeric_limits<S>::infinity()) noexcept {
     const Vec3<S> d = b.center - a.center;
     const Vec3<S> ea(a.half[0], a.half[1], a.radius + slack), eb(b.half[0], b.half[1], b.radius);
-    if (cutoff < std::numeric_limits<S>::infinity()) {
-        // Circumscribed balls, with l0 + l1 ≥ |(l0, l1)| for their radii: one square root.
-        const S sphere = detail::lowered(d.norm() - ea.sum() - eb.sum(), ea, eb, d);
-        if (sphere >= cutoff) return sphere;
-    }
     const Mat3<S> at = a.axes.transpose();
-    const Mat3<S> Rb = at * b.axes;
     const Vec3<S> T = at * d;
-    const S gap = detail::rectangle_gap(a.half[0], a.half[1], b.half[0], b.half[1], Rb, T);
+    if (cutoff < std::numeric_limits<S>::infinity()) {
+        // Both volumes projected onto the centres' direction: never below the circumscribed spheres' gap,
+        // and 4 dot products and one root, so most pairs the caller prunes stop here.
+        const S len = d.norm();
+        const S ext = a.half[0] * std::abs(T.x()) + a.half[1] * std::abs(T.y()) +
+                      b.half[0] * std::abs(b.axes.col(0).dot(d)) + b.half[1] * std::abs(b.axes.col(1).dot(d));
+        if (len > S(0)) {
+            const S centre = detail::lowered(len - ext / len - ea.z() - eb.z(), ea, eb, T);
+            if (centre >= cutoff) return centre;
+        }
+    }
+    const Mat3<S> Rb = at * b.axes;
+    const S gap = detail::rectangle_gap(a.half[0], a.half[1], b.half[0], b.half[1], Rb, T, cutoff + ea.z() + eb.z());
     return detail::lowered(gap - ea.z() - eb.z(), ea, eb, T);
 }
 

@@ -12,6 +12,8 @@
 ///   against theirs, bulges at every level (measured: 4.6× the built tree's summed surface area on a sphere
 ///   and 11.5× on the bunny with no deformation at all). With unmoved vertices a double tree gets its built
 ///   boxes back; after a deformation the axes no longer follow the shape: looser than a fresh fit.
+/// - Rss: the same rule (kept axes, rectangle and radius re-fitted from the node's vertices,
+///   Rss::fit_in_frame), for the same reason: merging two swept rectangles in turned axes bulges per level.
 ///
 /// `degradation()` measures what the refit costs: Σ node surface area / the surface area of a fresh fit of the
 /// whole mesh, relative to the same ratio of the tree that was built (scale invariant); `should_rebuild`
@@ -21,6 +23,7 @@
 
 #include "cdkit/bv/aabb.hpp"
 #include "cdkit/bv/obb.hpp"
+#include "cdkit/bv/rss.hpp"
 #include "cdkit/bvh/build.hpp"
 
 #include <string>
@@ -45,6 +48,7 @@ template <class S> [[nodiscard]] Aabb<S> refit_inner(const Aabb<S>&, const Aabb<
 /// BV types whose inner nodes are refitted from their triangles rather than from their children.
 template <class BV> inline constexpr bool refits_from_triangles_v = false;
 template <class S> inline constexpr bool refits_from_triangles_v<Obb<S>> = true;
+template <class S> inline constexpr bool refits_from_triangles_v<Rss<S>> = true;
 
 template <class BV, class M> [[nodiscard]] BV refit_leaf(const BV&, const TriangleMesh<M>& mesh, TriangleRange tris) {
     return fit_over<BV>(mesh, tris);
@@ -52,6 +56,11 @@ template <class BV, class M> [[nodiscard]] BV refit_leaf(const BV&, const Triang
 template <class S, class M> [[nodiscard]] Obb<S> refit_leaf(const Obb<S>& old, const TriangleMesh<M>& mesh, TriangleRange tris) {
     if constexpr (std::is_same_v<S, M>) return Obb<S>::fit_in_frame(mesh, tris, old.axes);
     else return narrow_outward(Obb<M>::fit_in_frame(mesh, tris, old.axes.template cast<M>()));
+}
+
+template <class S, class M> [[nodiscard]] Rss<S> refit_leaf(const Rss<S>& old, const TriangleMesh<M>& mesh, TriangleRange tris) {
+    if constexpr (std::is_same_v<S, M>) return Rss<S>::fit_in_frame(mesh, tris, old.axes);
+    else return narrow_outward(Rss<M>::fit_in_frame(mesh, tris, old.axes.template cast<M>()));
 }
 
 /// The size measure of degradation(): surface_area(), or volume() for a BV type without one.
