@@ -180,6 +180,10 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
     // when the sample reaches the top of the heap: most samples are swallowed by spheres before that).
     std::vector<double> key(n_cand);
     std::vector<std::uint8_t> exact(n_cand, 0);
+    // The closest triangle found for a sample, if measured (seeds the distance queries of its neighbours
+    // and of its refinement), and its exact surface distance once known (+inf until then).
+    std::vector<Index> near_tri(n_cand, PointMeshDistance::no_hint);
+    std::vector<double> surface_dist(n_cand, std::numeric_limits<double>::infinity());
     for (std::size_t c = 0; c < n_cand; ++c) key[c] = bound[cand_grid[c]];
     bound = {};
     out.stats.grid_points = total;
@@ -188,7 +192,11 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
     out.stats.seconds_sampling = seconds_since(t0);
     const auto t1 = std::chrono::steady_clock::now();
 
-    // 2–4. Greedy placement from a lazy max-heap (an entry is live while its key equals key[c]).
+    // 2–4. Greedy placement from a lazy max-heap: each live sample has one entry, whose value is an upper
+    // bound of key[c] (keys only decrease). Lowering a key does not touch the heap; an entry that reaches
+    // the top with an outdated value goes back with the current one. The top entry, once current, is the
+    // largest key, as every other entry bounds its own from above; few samples ever reach the top, so this
+    // costs far fewer heap operations than pushing every decrease.
     std::vector<std::int32_t> owner(n_cand, -1);
     std::vector<std::uint8_t> alive(n_cand, 1);
     using Entry = std::pair<double, std::uint32_t>;
@@ -202,7 +210,18 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
     const double min_radius = 1e-9 * extent;
     const double target_volume = options.target_coverage * out.mesh_volume;
     std::vector<std::uint32_t> near;
-    static const Vec3d dirs[6] = {Vec3d::UnitX(), -Vec3d::UnitX(), Vec3d::UnitY(), -Vec3d::UnitY(), Vec3d::UnitZ(), -Vec3d::UnitZ()};
+    // Pattern directions: the 26 neighbours of a cube (axes, face and space diagonals). With the axes alone
+    // the search stalls on ridges of the clearance (two constraints equally near) that run diagonally; the
+    // diagonals follow them (dragon, 10k spheres: coverage 79.0% → 81.1%; bunny 86.2% → 87.6%).
+    static const std::vector<Vec3d> dirs = [] {
+        std::vector<Vec3d> d;
+        for (int n = 1; n <= 3; ++n)
+            for (int k = -1; k <= 1; ++k)
+                for (int j = -1; j <= 1; ++j)
+                    for (int i = -1; i <= 1; ++i)
+                        if (std::abs(i) + std::abs(j) + std::abs(k) == n) d.push_back(Vec3d(i, j, k).normalized());
+        return d;
+    }();
     out.stop = PackingStop::no_room;
     while (true) {
         if (out.spheres.size() >= options.max_spheres) { out.stop = PackingStop::max_spheres; break; }
@@ -213,11 +232,44 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         const double f0 = heap.back().first;
         const auto c0 = heap.back().second;
         heap.pop_back();
-        if (!alive[c0] || f0 != key[c0]) continue;  // stale entry
-        if (!exact[c0]) {  // measure the surface distance now, and requeue with the exact key
-            exact[c0] = 1;
+        if (!alive[c0]) continue;
+        if (f0 != key[c0]) {  // outdated
+            heap.emplace_back(key[c0], c0);
+            std::push_heap(heap.begin(), heap.end());
+            continue;
+        }
+        if (!exact[c0]) {
+            // Measure the surface distance now and requeue. Only a clearance above the next key keeps c0 on
+            // top, so the search may stop at the first triangle at most that far: c0 then goes back with that
+            // lower upper bound (most samples measured here sink and are swallowed before they come back).
+            // Seeded with the closest triangle already known for c0 or a grid neighbour.
+            const Vec3d p = grid_point(cand_grid[c0]);
+            PointMeshDistance::PointMeshQuery o;
+            o.max_distance = key[c0];
+            o.stop_at = heap.empty() ? -1.0 : heap.front().first;
+            double hint_d2 = std::numeric_limits<double>::infinity();
+            auto try_hint = [&](std::int64_t gi) {
+                const std::int32_t c = cand_of[std::size_t(gi)];
+                if (c < 0 || near_tri[std::size_t(c)] == PointMeshDistance::no_hint) return;
+                const Triangle& t = mesh.triangles[near_tri[std::size_t(c)]];
+                const double d2 = (closest_point_on_triangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]) - p).squaredNorm();
+                if (d2 < hint_d2) hint_d2 = d2, o.hint = near_tri[std::size_t(c)];
+            };
+            const std::int64_t g0 = cand_grid[c0];
+            const std::int64_t stride[3] = {1, dims[0], dims[0] * dims[1]};
+            const std::int64_t at[3] = {g0 % dims[0], (g0 / dims[0]) % dims[1], g0 / (dims[0] * dims[1])};
+            try_hint(g0);
+            for (int k = 0; k < 3; ++k) {
+                if (at[k] > 0) try_hint(g0 - stride[k]);
+                if (at[k] + 1 < dims[k]) try_hint(g0 + stride[k]);
+            }
             ++out.stats.distance_queries;
-            key[c0] = std::min(key[c0], surface.query(grid_point(cand_grid[c0]), key[c0]).distance);
+            const PointMeshClosest q = surface.query(p, o);
+            exact[c0] = !(q.distance <= o.stop_at);  // a search that ran to the end (ties rerun once, harmlessly)
+            if (q.distance < key[c0]) {
+                key[c0] = q.distance, near_tri[c0] = q.triangle;
+                if (exact[c0]) surface_dist[c0] = q.distance;
+            }
             heap.emplace_back(key[c0], c0);
             std::push_heap(heap.begin(), heap.end());
             continue;
@@ -226,36 +278,52 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         const Vec3d p0 = grid_point(cand_grid[c0]);
         // The refined centre stays within M of p0; spheres farther than T from p0 cannot bound the clearance
         // anywhere in that ball below f0 + M, which caps the radius.
-        const double M = std::min(h, f0 + 0.25 * h);
+        const double M = std::min(2 * h, f0 + 0.5 * h);
         const double T = f0 + 2 * M;
         near.clear();
         index.for_near(p0, T, [&](std::uint32_t id) {
             const InnerSphere& s = out.spheres[id];
             if ((p0 - s.center).norm() - s.radius < T) near.push_back(id);
         });
-        auto clearance = [&](const Vec3d& x) {
+        // The clearance at y where it exceeds `beat`; at most `beat` otherwise (then y loses the comparison
+        // anyway, so the surface search may stop at the first triangle that close). `tri`: in, a nearby
+        // triangle to seed the search; out, y's closest triangle when the surface bounds the clearance.
+        auto clearance = [&](const Vec3d& y, double beat, Index& tri) {
             double g = f0 + M;
-            for (std::uint32_t id : near) g = std::min(g, (x - out.spheres[id].center).norm() - out.spheres[id].radius);
-            if (g <= 0) return g;
+            for (std::uint32_t id : near) g = std::min(g, (y - out.spheres[id].center).norm() - out.spheres[id].radius);
+            if (g <= std::max(beat, 0.0)) return g;
             ++out.stats.distance_queries;
-            return std::min(g, surface.query(x, g).distance);
+            PointMeshDistance::PointMeshQuery o;
+            o.max_distance = g, o.hint = tri, o.stop_at = beat;
+            const PointMeshClosest q = surface.query(y, o);
+            if (q.distance < g) tri = q.triangle;
+            return std::min(g, q.distance);
         };
         Vec3d x = p0;
-        double g = clearance(p0);
+        Index tri_x = near_tri[c0];
+        double g;
+        if (surface_dist[c0] < std::numeric_limits<double>::infinity()) {  // clearance(p0) without a new search
+            g = std::min(f0 + M, surface_dist[c0]);
+            for (std::uint32_t id : near) g = std::min(g, (p0 - out.spheres[id].center).norm() - out.spheres[id].radius);
+        } else {
+            g = clearance(p0, -1.0, tri_x);
+        }
         // Pattern search towards the inner Voronoi node. A step shorter than the clearance stays inside the
         // empty ball around x, so the centre never crosses the surface.
-        for (double step = 0.5 * h; step > h / 32;) {
+        for (double step = 0.5 * h; step > h / 128;) {
             const double s = std::min(step, 0.5 * g);
-            if (s <= h / 32) break;
+            if (s <= h / 128) break;
             double best = g;
             Vec3d bx = x;
+            Index btri = tri_x;
             for (const Vec3d& d : dirs) {
                 const Vec3d y = x + s * d;
                 if ((y - p0).norm() > M) continue;
-                const double gy = clearance(y);
-                if (gy > best) best = gy, bx = y;
+                Index ty = tri_x;
+                const double gy = clearance(y, best, ty);
+                if (gy > best) best = gy, bx = y, btri = ty;
             }
-            if (best > g) x = bx, g = best;
+            if (best > g) x = bx, g = best, tri_x = btri;
             else step *= 0.5;
         }
         const double r = g * (1 - 1e-12);
@@ -282,9 +350,8 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
                     owner[c] = std::int32_t(sid);
                     if (!alive[c]) continue;
                     if (d <= 0) alive[c] = 0;
-                    else heap.emplace_back(d, std::uint32_t(c)), std::push_heap(heap.begin(), heap.end());
                 }
-        if (alive[c0] && owner[c0] != std::int32_t(sid)) heap.emplace_back(key[c0], c0), std::push_heap(heap.begin(), heap.end());
+        if (alive[c0]) heap.emplace_back(key[c0], c0), std::push_heap(heap.begin(), heap.end());  // c0 has no entry now
     }
 
     // Cell weights: each inside sample belongs to the sphere whose surface is nearest.
@@ -321,10 +388,19 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         const double lw = 2 * h;
         const double D = layers * lw;
         std::vector<std::uint8_t> layer_of(n_cand, std::uint8_t(layers));
-        parallel_for_index(n_cand, [&](std::size_t c) {
-            if (key[c] < 0 && -key[c] >= D) return;  // deep inside its sphere (spheres lie inside the mesh)
-            const double d = surface.query(grid_point(cand_grid[c]), D).distance;
-            if (d < D) layer_of[c] = std::uint8_t(std::min(layers - 1, int(d / lw)));
+        // By runs of consecutive samples along x (the candidates are in grid order), each query seeded with
+        // the triangle found for the previous sample, a few h away; the quantum stops each search once the
+        // layer is certain (layers are exact, so the weights do not depend on the seeding or the runs).
+        constexpr std::size_t run = 64;
+        parallel_for_index((n_cand + run - 1) / run, [&](std::size_t b) {
+            Index tri = PointMeshDistance::no_hint;
+            for (std::size_t c = b * run; c < std::min(n_cand, (b + 1) * run); ++c) {
+                if (key[c] < 0 && -key[c] >= D) continue;  // deep inside its sphere (spheres lie inside the mesh)
+                PointMeshDistance::PointMeshQuery o;
+                o.max_distance = D, o.hint = tri, o.quantum = lw;  // only the layer ⌊d / lw⌋ is used
+                const PointMeshClosest q = surface.query(grid_point(cand_grid[c]), o);
+                if (q.distance < D) layer_of[c] = std::uint8_t(std::min(layers - 1, int(q.distance / lw))), tri = q.triangle;
+            }
         });
         const std::size_t n = out.spheres.size();
         std::vector<double> mesh_layer(layers + 1, 0.0);

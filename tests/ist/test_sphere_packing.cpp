@@ -207,6 +207,39 @@ TEST_CASE("point-mesh distance on the tree equals brute force", "[ist][packing]"
     }
 }
 
+TEST_CASE("point-mesh distance: hint, stop_at and quantum keep their promises", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    const PointMeshDistance dist(bunny);
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<double> u(-1.1, 1.1);
+    std::uniform_int_distribution<Index> tri(0, Index(bunny.triangles.size() - 1));
+    const double quantum = 0.03;
+    for (int i = 0; i < scaled(100, 20); ++i) {
+        const Vec3<double> p(u(rng), u(rng), u(rng));
+        const double exact = dist.query(p).distance;
+        PointMeshDistance::PointMeshQuery o;
+        o.hint = tri(rng);  // any triangle: the answer must not depend on it
+        CHECK(dist.query(p, o).distance == exact);
+        o.hint = dist.query(p).triangle;  // the closest one itself
+        CHECK(dist.query(p, o).distance == exact);
+        // stop_at: exact above the threshold; at most the threshold (and not below the distance) otherwise.
+        for (const double stop : {0.5 * exact, exact * 0.999, 1.5 * exact + 0.01}) {
+            o.hint = tri(rng);
+            o.stop_at = stop;
+            const double d = dist.query(p, o).distance;
+            if (exact > stop) CHECK(d == exact);
+            else CHECK((d <= stop && d >= exact));
+        }
+        // quantum: the same ⌊d / quantum⌋, never below the distance.
+        o.stop_at = -1;
+        o.quantum = quantum;
+        const double dq = dist.query(p, o).distance;
+        CHECK(std::floor(dq / quantum) == std::floor(exact / quantum));
+        CHECK(dq >= exact);
+        o.quantum = 0;
+    }
+}
+
 TEST_CASE("tree over the packing: valid, out-degree respected, leaves are the spheres", "[ist][tree]") {
     const auto bunny = test::unit_bunny();
     PackingOptions o;

@@ -4,12 +4,16 @@
 /// The closest point on a triangle follows Ericson, "Real-Time Collision Detection" (2005), sec. 5.1.5
 /// (Voronoi regions of the vertices, edges and face, decided by barycentric sign tests). The tree search is
 /// best-first branch and bound: a node is skipped when its box is farther than the best triangle so far.
+/// Callers with a good guess (a neighbour's closest triangle) can seed the bound with it, and callers that
+/// only compare the distance with a threshold can stop at the first triangle below it.
 /// Const and thread-safe.
 
 #include "cdkit/bv/aabb.hpp"
 #include "cdkit/bvh/build.hpp"
 #include "cdkit/bvh/traverse.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace cdkit {
@@ -68,19 +72,61 @@ public:
     /// when nothing is that close).
     [[nodiscard]] PointMeshClosest query(const Vec3<double>& p,
                                          double max_distance = std::numeric_limits<double>::infinity()) const noexcept {
+        PointMeshQuery q;
+        q.max_distance = max_distance;
+        return query(p, q);
+    }
+
+    /// `hint` value meaning none.
+    static constexpr Index no_hint = ~Index(0);
+    /// Options of the accelerated query(), for callers that ask about many nearby points or need less than
+    /// the exact distance.
+    struct PointMeshQuery {
+        double max_distance = std::numeric_limits<double>::infinity();  ///< search only closer than this
+        /// A triangle measured first (e.g. a neighbouring point's closest one): a close one prunes the tree
+        /// from the root. The result is the same minimum over the same triangle distances with or without it.
+        Index hint = no_hint;
+        /// ≥ 0: the caller only needs to know whether the distance exceeds stop_at; the search returns at the
+        /// first triangle found at distance ≤ stop_at, with that (not necessarily least) distance. Distances
+        /// above stop_at come out exact.
+        double stop_at = -1;
+        /// > 0: only ⌊distance / quantum⌋ is needed; subtrees that cannot lower it are skipped, so the
+        /// returned distance may exceed the least one but has the same ⌊· / quantum⌋ (a relative margin of
+        /// 1e-9 on the cut keeps rounding on the safe side).
+        double quantum = 0;
+    };
+    /// Closest point with the options above; with the defaults it is query(p, max_distance).
+    [[nodiscard]] PointMeshClosest query(const Vec3<double>& p, const PointMeshQuery& opt) const noexcept {
         PointMeshClosest out;
         if (bvh_.empty()) return out;
-        double best2 = max_distance < std::numeric_limits<double>::infinity() ? max_distance * max_distance
-                                                                              : std::numeric_limits<double>::infinity();
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        double best2 = opt.max_distance < inf ? opt.max_distance * opt.max_distance : inf;
+        double cut2 = best2;  // subtrees at squared distance ≥ cut2 cannot matter
+        const double stop2 = opt.stop_at >= 0 ? opt.stop_at * opt.stop_at : -1.0;
+        bool found = false;
+        auto improve = [&](const Vec3<double>& q, double d2, Index tri) {
+            best2 = d2, out.point = q, out.triangle = tri, found = true;
+            if (opt.quantum > 0) {
+                const double floor_d = std::floor(std::sqrt(d2) / opt.quantum) * opt.quantum * (1 + 1e-9);
+                cut2 = std::min(best2, floor_d * floor_d);
+            } else {
+                cut2 = best2;
+            }
+        };
+        if (opt.hint < mesh_.triangles.size()) {
+            const Triangle& t = mesh_.triangles[opt.hint];
+            const Vec3<double> q = closest_point_on_triangle(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+            const double d2 = (q - p).squaredNorm();
+            if (d2 < best2) improve(q, d2, opt.hint);
+        }
         const auto& nodes = bvh_.nodes();
         const auto& order = bvh_.triangle_order();
         struct Item { std::uint32_t node; double d2; };
         detail::SmallStack<Item, 128> stack;
-        stack.push({0, box_dist2(nodes[0].bv, p)});
-        bool found = false;
+        if (!(found && best2 <= stop2)) stack.push({0, box_dist2(nodes[0].bv, p)});
         while (!stack.empty()) {
             const Item it = stack.pop();
-            if (it.d2 >= best2) continue;
+            if (it.d2 >= cut2) continue;
             const auto& n = nodes[it.node];
             if (n.is_leaf()) {
                 for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
@@ -88,14 +134,15 @@ public:
                     const Vec3<double> q =
                         closest_point_on_triangle(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
                     const double d2 = (q - p).squaredNorm();
-                    if (d2 < best2) best2 = d2, out.point = q, out.triangle = order[k], found = true;
+                    if (d2 < best2) improve(q, d2, order[k]);
                 }
+                if (found && best2 <= stop2) break;
                 continue;
             }
             Item c0{n.first, box_dist2(nodes[n.first].bv, p)}, c1{n.first + 1, box_dist2(nodes[n.first + 1].bv, p)};
             if (c1.d2 < c0.d2) std::swap(c0, c1);
-            if (c1.d2 < best2) stack.push(c1);
-            if (c0.d2 < best2) stack.push(c0);
+            if (c1.d2 < cut2) stack.push(c1);
+            if (c0.d2 < cut2) stack.push(c0);
         }
         if (found) out.distance = std::sqrt(best2);
         return out;

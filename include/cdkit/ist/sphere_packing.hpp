@@ -6,14 +6,19 @@
 ///
 /// Method (a greedy packing at approximate inner Voronoi nodes, after the paper's voxel variant):
 ///  1. A grid of sample points, jittered by the seed, is classified inside/outside (InsideTest, exact
-///     predicates) and every inside sample gets its exact distance to the surface (PointMeshDistance).
+///     predicates, one ray per grid column), which also bounds each sample's distance to the surface.
 ///  2. Each sample's clearance is min(distance to the surface, distance to the surface of every sphere
-///     placed so far); a max-heap holds the samples by clearance.
-///  3. The best sample is refined by a local pattern search that maximises the exact clearance (moving
-///     towards the inner Voronoi node of surface + spheres), a sphere with that clearance as radius is
-///     placed, and the samples within twice its radius are updated (those it swallows die).
+///     placed so far); a lazy max-heap holds the samples by upper bounds of it, and a sample's surface
+///     distance is measured (PointMeshDistance) only when it reaches the top, and only as far as needed
+///     to tell whether it stays there.
+///  3. The best sample is refined by a local pattern search (26 directions, steps h/2 down to h/128) that
+///     maximises the exact clearance (moving towards the inner Voronoi node of surface + spheres), a
+///     sphere with that clearance as radius is placed, and the samples within twice its radius are updated
+///     (those it swallows die).
 ///  4. Repeat until the sphere count or the target coverage is reached, or no sample has room left.
-/// Each radius is the exact clearance at its centre (shrunk by 1e-12 relative), so the spheres lie inside
+/// The surface searches are seeded with a neighbouring sample's closest triangle and stop as soon as the
+/// comparison they serve is decided (PointMeshDistance::PointMeshQuery); these shortcuts do not change the
+/// spheres. Each radius is the exact clearance at its centre (shrunk by 1e-12 relative), so the spheres lie inside
 /// the mesh and do not overlap each other, whatever the grid resolution; the resolution only limits how
 /// small a gap is still found (hence the coverage reachable). Deterministic for a given seed.
 ///
@@ -23,9 +28,9 @@
 ///
 /// Depth calibration (PackingOptions::depth_calibration, on by default): the cell weights leave the
 /// outermost layer of the mesh, where the packing has most of its gaps, with too little weighted sphere
-/// volume, so shallow contacts come out low. The samples' exact depths (distance to the surface, measured
-/// once at build time) give the mesh's volume in 16 layers two samples thick (and one deeper layer); the
-/// samples inside each sphere give its volume per layer (a sphere holding fewer than 8 samples is modelled
+/// volume, so shallow contacts come out low. The samples' depths (distance to the surface, measured once
+/// at build time; the search settles only the layer ⌊depth / layer width⌋, exactly) give the mesh's volume
+/// in 16 layers two samples thick (and one deeper layer); the samples inside each sphere give its volume per layer (a sphere holding fewer than 8 samples is modelled
 /// against a plane at its centre's depth). A few rounds of iterative proportional fitting then scale each
 /// sphere's weight by the volume-weighted mean of its layers' ratios (mesh volume / weighted sphere
 /// volume), so that the weighted sphere volume matches the mesh's layer by layer; weights stay ≥ 1.
