@@ -260,11 +260,14 @@ TEST_CASE("GJK distance between curved shapes near contact is within 1e-9 of a c
     // long-double GJK clamped into a certified interval: lower bounds from the gap between the supporting
     // planes along the reference's and the answer's normals, upper bound from the reference's witness points
     // (long-double GJK has the same sliver floor, 2000× smaller, and was seen 9e-9 below a certified bound).
+    // The first 600 cone/cylinder–ellipsoid pairs of seed 2026 passed even with the needle-triangle error (see
+    // the needle test below); pairs 1024, 4720 and 5698 of the 6000 were 1.1–1.2e-9 off. Since the
+    // normal is built at the triangle's largest angle 120k such pairs stay ≤ 2.3e-10; the bound keeps a margin.
     std::mt19937_64 rng(2026);
     std::uniform_real_distribution<double> u(0.5, 1.0);
     GjkSettings<L> tight;
     tight.rel_tolerance = 1e-16L;
-    int checked = 0, below_lower = 0, off = 0;
+    int tried = 0, checked = 0, below_lower = 0, off = 0;
     double worst = 0;
     auto gap = [](const auto& a, const Transform<L>& pa, const auto& b, const Transform<L>& pb, VL n) {
         n.normalize();
@@ -273,6 +276,7 @@ TEST_CASE("GJK distance between curved shapes near contact is within 1e-9 of a c
         return n.dot(tb.support(VL(-n))) - n.dot(ta.support(n));
     };
     auto run = [&](const auto& a, const auto& al, const auto& b, const auto& bl, int k) {
+        ++tried;
         Transform<double> pa(test::random_rotation(rng), Vec3<double>::Zero());
         std::normal_distribution<double> g;
         Transform<double> pb(test::random_rotation(rng), Vec3<double>(g(rng), g(rng), g(rng)).normalized() * 0.4);
@@ -292,16 +296,78 @@ TEST_CASE("GJK distance between curved shapes near contact is within 1e-9 of a c
         worst = std::max(worst, err);
         if (err > 1e-9) ++off;
     };
-    for (int k = 0; k < test::scaled(600, 60); ++k) {
+    for (int k = 0; k < test::scaled(6000, 600); ++k) {
         const double r1 = 0.1 * u(rng), h1 = 0.1 * u(rng), r2 = 0.1 * u(rng), h2 = 0.1 * u(rng);
         if (k % 2 == 0) run(Cone<double>(r1, h1), Cone<L>(r1, h1), Cone<double>(r2, h2), Cone<L>(r2, h2), k / 2);
         else run(Cylinder<double>(r1, h1), Cylinder<L>(r1, h1), Ellipsoid<double>({r2, h2, r1}),
                  Ellipsoid<L>(VL(r2, h2, r1)), k / 2);
     }
-    INFO("worst relative error " << worst);
-    CHECK(checked >= test::scaled(600, 60) * 9 / 10);
+    // The other curved pairs (cylinder–cylinder, cone–cylinder and capsule–cone were also off before, up to
+    // 4.7e-9).
+    for (int k = 0; k < test::scaled(2500, 250); ++k) {
+        const double r1 = 0.1 * u(rng), h1 = 0.1 * u(rng), r2 = 0.1 * u(rng), h2 = 0.1 * u(rng);
+        switch (k % 5) {
+            case 0:
+                run(Cylinder<double>(r1, h1), Cylinder<L>(r1, h1), Cylinder<double>(r2, h2), Cylinder<L>(r2, h2),
+                    k / 5);
+                break;
+            case 1:
+                run(Ellipsoid<double>({r1, h1, r2}), Ellipsoid<L>(VL(r1, h1, r2)), Ellipsoid<double>({r2, h2, r1}),
+                    Ellipsoid<L>(VL(r2, h2, r1)), k / 5);
+                break;
+            case 2:
+                run(Capsule<double>(r1, h1), Capsule<L>(r1, h1), Cone<double>(r2, h2), Cone<L>(r2, h2), k / 5);
+                break;
+            case 3:
+                run(Cone<double>(r1, h1), Cone<L>(r1, h1), Cylinder<double>(r2, h2), Cylinder<L>(r2, h2), k / 5);
+                break;
+            default:
+                run(Capsule<double>(r1, h1), Capsule<L>(r1, h1), Ellipsoid<double>({r2, h2, r1}),
+                    Ellipsoid<L>(VL(r2, h2, r1)), k / 5);
+                break;
+        }
+    }
+    INFO("worst relative error " << worst << " over " << checked << " pairs");
+    CHECK(checked >= tried * 9 / 10);
     CHECK(below_lower == 0);
     CHECK(off == 0);
+    CHECK(worst < 5e-10);
+}
+
+TEST_CASE("GJK triangle step on needles: the normal is built at the largest angle", "[gjk]") {
+    // Near contact on curved shapes GJK's triangles become needles: two support points ~1e-8 apart, the third
+    // ~0.2 away. ab × ac taken at the far vertex (angle ~5e-8) tilted the plane by ε/5e-8, putting |v| up to
+    // 1e-4 relative off at distance 1e-5; the edges at the largest angle give ~ε·lever/distance. Reference:
+    // the squared plane distance of the same (rounded) points in __float128 (products of doubles exact).
+    using Q = __float128;
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    double worst = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const double dist = trial % 2 ? 1e-5 : 1e-3, h = 5e-9 * (1 + u(rng) * 0.5);
+        const Mat3<double> R = test::random_rotation(rng);
+        // Foot (0, 0, dist) inside the needle a, b, c.
+        const Vec3<double> p[3] = {R * Vec3<double>(-0.15 + 0.01 * u(rng), 0.3 * h * u(rng), dist),
+                                   R * Vec3<double>(0.05, -h, dist), R * Vec3<double>(0.05 + 1e-9 * u(rng), h, dist)};
+        for (int rot = 0; rot < 3; ++rot) {  // the far vertex first, second and third
+            GjkSimplex<double> s;
+            s.size = 3;
+            for (int i = 0; i < 3; ++i) s.v[std::size_t(i)].w = p[(i + rot) % 3];
+            detail::SimplexSelection<double> sel;
+            detail::SimplexSolver<double>::select(s, sel);
+            REQUIRE(sel.size == 3);
+            Q e1[3], e2[3];
+            for (int k = 0; k < 3; ++k) { e1[k] = Q(p[1][k]) - Q(p[0][k]); e2[k] = Q(p[2][k]) - Q(p[0][k]); }
+            const Q n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
+            const Q np = n[0] * Q(p[0][0]) + n[1] * Q(p[0][1]) + n[2] * Q(p[0][2]);
+            const Q ref2 = np * np / (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            const double rel = std::abs(double((Q(sel.v.squaredNorm()) - ref2) / ref2)) / 2;  // on |v|
+            worst = std::max(worst, rel);
+        }
+    }
+    INFO("worst relative error of |v| " << worst);
+    CHECK(worst < 1e-10);
 }
 
 TEST_CASE("GJK touching configurations: boxes face to face, edge to edge", "[gjk][touching]") {

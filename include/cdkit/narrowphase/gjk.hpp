@@ -147,6 +147,9 @@ template <class S> struct SimplexSelection {
     int size = 0;
     bool inside = false;  ///< origin inside a full-dimensional tetrahedron (v = 0, nothing dropped)
     Vec3<S> v = Vec3<S>::Zero();
+    /// Triangle steps (size 3): |e1|²·|e2|² and |e1 × e2|² of the two edges the normal was built from, so that
+    /// 1/sin² of their angle (the normal's rounding, see `triangle_step_unreliable`) costs no recomputation.
+    S edges2 = S(0), normal2 = S(0);
 };
 
 template <class S> class SimplexSolver {
@@ -197,8 +200,17 @@ public:
         const S va = d3 * d6 - d5 * d4;
         if (va <= S(0) && (d4 - d3) >= S(0) && (d5 - d6) >= S(0)) { segment(s, i2, i1, r); return; }
         const S denom = va + vb + vc;
-        const Vec3<S> n = ab.cross(ac);
-        const S nn = n.squaredNorm();
+        // Squared edge lengths from the region tests' dot products (rounding only blurs which vertex is
+        // chosen). The normal at a is kept unless a's angle is below 30° (then the largest is elsewhere).
+        const S ab2 = d1 - d3, ac2 = d2 - d6;
+        Vec3<S> n = ab.cross(ac);
+        S nn = n.squaredNorm();
+        r.edges2 = ab2 * ac2;
+        if (nn < S(0.25) * r.edges2) {
+            n = stable_normal(b, c, ab, ac, ab2, ac2, ab2 + ac2 - S(2) * (d2 - d4), r.edges2);
+            nn = n.squaredNorm();
+        }
+        r.normal2 = nn;
         if (!(denom > S(0)) || !(nn > S(0))) {
             // Degenerate (collinear) triangle that the region tests did not resolve: best edge.
             Sel e;
@@ -224,6 +236,23 @@ public:
         for (int k = 0; k < 3; ++k) { r.idx[std::size_t(k)] = ids[o[k]]; r.lambda[std::size_t(k)] = lam[o[k]]; }
         // The plane projection is more accurate than the barycentric sum when v is small against a, b, c.
         r.v = n * (n.dot(a) / nn);
+    }
+
+    /// Normal of triangle a, b, c as the cross product of the two edges at the vertex opposite the longest
+    /// edge (its angle is the largest, ≥ 60°). The cross product of two edges rounds to a normal tilted by
+    /// about ε over the sine of their angle; near contact on curved shapes GJK builds needles (two support
+    /// points 1e-8 apart, the third 0.2 away), whose angle at the far vertex is ~1e-7: ab × ac from there
+    /// tilted the plane enough to put |v| 1e-9 relative below the distance, even in long double.
+    /// ab2, ac2, bc2: the squared edge lengths (approximate). The short edge is taken as c − b from the
+    /// points, not ac − ab (which carries the rounding of the long edges).
+    /// `edges2` receives the product of the two edges' squared lengths.
+    static Vec3<S> stable_normal(const Vec3<S>& b, const Vec3<S>& c, const Vec3<S>& ab, const Vec3<S>& ac, S ab2,
+                                 S ac2, S bc2, S& edges2) noexcept {
+        if (bc2 >= ab2 && bc2 >= ac2) { edges2 = ab2 * ac2; return ab.cross(ac); }  // largest angle at a
+        const Vec3<S> bc = c - b;
+        if (ac2 >= ab2) { edges2 = ab2 * bc2; return ab.cross(bc); }  // at b: (b − a) × (c − b)
+        edges2 = ac2 * bc2;
+        return ac.cross(bc);  // at c: (c − a) × (c − b)
     }
 
     static void tetrahedron(const GjkSimplex<S>& s, Sel& r) noexcept {
@@ -332,19 +361,18 @@ CDKIT_ALWAYS_INLINE GjkVertex<typename A::Scalar> minkowski_support(const A& a, 
 template <class S> using wider_t =
     std::conditional_t<std::is_same_v<S, float>, double, std::conditional_t<std::is_same_v<S, double>, long double, S>>;
 
-/// Rounding of the triangle step's closest point v on triangle s.v[idx[0..2]]: the computed normal tilts by
-/// about ε·|ab|·|ac|/|ab × ac| (ε over the sine of the angle at a), which moves the projection by that
-/// angle times the lever arm, the farthest vertex from v.
-template <class S> [[nodiscard]] inline S triangle_rounding(const GjkSimplex<S>& s, const std::array<int, 4>& idx,
-                                                            const Vec3<S>& v) noexcept {
-    const Vec3<S>& a = s.v[std::size_t(idx[0])].w;
-    const Vec3<S>& b = s.v[std::size_t(idx[1])].w;
-    const Vec3<S>& c = s.v[std::size_t(idx[2])].w;
-    const Vec3<S> ab = b - a, ac = c - a;
-    const S nn = ab.cross(ac).squaredNorm();
-    if (!(nn > S(0))) return std::numeric_limits<S>::infinity();
-    const S lever2 = std::max({(a - v).squaredNorm(), (b - v).squaredNorm(), (c - v).squaredNorm()});
-    return std::numeric_limits<S>::epsilon() * std::sqrt(ab.squaredNorm() * ac.squaredNorm() * lever2 / nn);
+/// True when the rounding of the triangle step `sel` (closest point v on triangle s.v[sel.idx[0..2]]) may
+/// exceed `tol`: the computed normal tilts by about ε over the sine of the angle it is built at (the largest,
+/// see `SimplexSolver::stable_normal`), which moves the projection by that angle times the lever arm, the
+/// farthest vertex from v. Compared in squares, without division.
+template <class S> [[nodiscard]] inline bool triangle_step_unreliable(const GjkSimplex<S>& s,
+                                                                      const SimplexSelection<S>& sel, S tol) noexcept {
+    if (!(sel.normal2 > S(0))) return true;
+    S lever2 = S(0);
+    for (int k = 0; k < 3; ++k)
+        lever2 = std::max(lever2, (s.v[std::size_t(sel.idx[std::size_t(k)])].w - sel.v).squaredNorm());
+    const S eps = std::numeric_limits<S>::epsilon();
+    return eps * eps * sel.edges2 * lever2 > tol * tol * sel.normal2;
 }
 
 /// The sub-simplex step on the first `n + 1` vertices of `s`, in `wider_t<S>`. With `always` false: true
@@ -565,7 +593,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             // longer an upper bound and the gap test passes short of the distance (issue 5: up to 7e-7
             // relative on close cones). Redo that step in the wider type (x87 long double for double).
             if (!boolean && !sel.inside && sel.size == 3 &&
-                triangle_rounding(s, sel.idx, sel.v) > S(0.1) * settings.rel_tolerance * sel.v.norm())
+                triangle_step_unreliable(s, sel, S(0.1) * settings.rel_tolerance * sel.v.norm()))
                 refine_step(s, s.size - 1, sel, true);
         }
         if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
