@@ -148,3 +148,22 @@ TEST_CASE("the build's Morton-ordered copy holds the same triangles", "[bvh][bui
     for (auto& v : flat.vertices) v.z() = 1.0;
     CHECK(detail::morton_ordered(flat).original.size() == flat.triangles.size());
 }
+
+TEST_CASE("SAH bins an axis of subnormal spread without overflow", "[bvh][build]") {
+    // Centroids 1e-39 apart on x (subnormal in float): 16 bins / extent overflows float, and (c − lo)·inf
+    // would be NaN cast to int (UBSan reports it). The axis is left unbinned; y and z still split.
+    TriangleMesh<float> m;
+    for (int i = 0; i < 40; ++i) {
+        const float x = float(i) * 1e-39f, y = float(i);
+        const Index base = Index(m.vertices.size());
+        m.vertices.push_back(Vec3<float>(x, y, 0.0f));
+        m.vertices.push_back(Vec3<float>(x, y + 0.5f, 0.0f));
+        m.vertices.push_back(Vec3<float>(x, y, 0.5f));
+        m.triangles.push_back({base, Index(base + 1), Index(base + 2)});
+    }
+    BuildOptions opt;
+    opt.split = SplitStrategy::sah;
+    const MeshModel<Aabb<float>> model(m, opt);
+    REQUIRE_NOTHROW(model.validate());
+    CHECK(model.bvh().depth() <= 12);
+}

@@ -112,8 +112,10 @@ template <class S>
     bool binned[3];
     S scale[3];
     for (int axis = 0; axis < 3; ++axis) {
-        binned[axis] = cb.hi[axis] > cb.lo[axis];
-        scale[axis] = binned[axis] ? S(B) / (cb.hi[axis] - cb.lo[axis]) : S(0);
+        // An extent so small that B / extent overflows (subnormal centroid spread) is left unbinned: an
+        // infinite scale would turn (c − lo)·scale into NaN for c = lo.
+        scale[axis] = cb.hi[axis] > cb.lo[axis] ? S(B) / (cb.hi[axis] - cb.lo[axis]) : S(0);
+        binned[axis] = scale[axis] > S(0) && scale[axis] <= std::numeric_limits<S>::max();
     }
     auto bin_of = [&](const Vec3<S>& c, int axis) {
         const int b = int((c[axis] - cb.lo[axis]) * scale[axis]);
