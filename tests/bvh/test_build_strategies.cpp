@@ -143,10 +143,13 @@ TEST_CASE("the build's Morton-ordered copy holds the same triangles", "[bvh][bui
     for (std::size_t i = 0; i < sorted.size(); ++i) REQUIRE(sorted[i] == Index(i));  // a permutation
     for (std::size_t i = 0; i < m.triangles.size(); ++i)
         for (int c = 0; c < 3; ++c) REQUIRE(ordered.mesh.triangle(i)[c] == m.triangle(ordered.original[i])[c]);
-    // Flat input (all z equal) gets keys too.
+    // Flat input (all z equal) gets keys too, and so does a spread too small for 2^21 / extent (inf: NaN keys).
     TriangleMesh<double> flat = m;
     for (auto& v : flat.vertices) v.z() = 1.0;
     CHECK(detail::morton_ordered(flat).original.size() == flat.triangles.size());
+    TriangleMesh<double> tiny = m;
+    for (auto& v : tiny.vertices) v *= 1e-305;
+    CHECK(detail::morton_ordered(tiny).original.size() == tiny.triangles.size());
 }
 
 TEST_CASE("SAH bins an axis of subnormal spread without overflow", "[bvh][build]") {

@@ -41,7 +41,10 @@ template <class S> [[nodiscard]] MortonOrderedMesh<S> morton_ordered(const Trian
     Vec3<double> lo = in.vertices[0].template cast<double>(), hi = lo;
     for (const auto& v : in.vertices) lo = lo.cwiseMin(v.template cast<double>()), hi = hi.cwiseMax(v.template cast<double>());
     Vec3<double> scale;
-    for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? double((1u << 21) - 1) / (hi[k] - lo[k]) : 0.0;
+    for (int k = 0; k < 3; ++k) {
+        scale[k] = hi[k] > lo[k] ? double((1u << 21) - 1) / (hi[k] - lo[k]) : 0.0;
+        if (!(scale[k] <= std::numeric_limits<double>::max())) scale[k] = 0.0;  // extent below ~1e-302: one key
+    }
     std::vector<std::uint64_t> key(n);
     for (std::size_t i = 0; i < n; ++i) {
         const Triangle& t = in.triangles[i];
