@@ -402,6 +402,25 @@ template <class S> inline bool refine_step(const GjkSimplex<S>& s, int n, Simple
     return true;
 }
 
+/// GJK's convergence test on |v| (v the point of the simplex nearest the origin, w the support point along
+/// −v, vw = v·w, vv = |v|², size2 = the squared size of D's support points): the gap |v| − v·w/|v| between
+/// the upper and lower bound is within ε_rel·|v|² + 16·ε·|v|·size, compared in squares (no sqrt per
+/// iteration). With margins (capsules, spheres, Inflated: GJK runs on the cores) the caller gets
+/// |v| − margin, so the relative term is ε_rel·|v|·(|v| − margin): ε_rel·|v|² would be
+/// ε_rel·(1 + margin/distance) relative on the result (2e-8 on close capsule pairs). Within the margin
+/// (overlap) only the decision matters and ε_rel·|v|² stays.
+template <class S>
+[[nodiscard]] inline bool gap_converged(S vv, S vw, S margin, S size2, S rel_tolerance) noexcept {
+    constexpr S eps = std::numeric_limits<S>::epsilon();
+    S rel_term = rel_tolerance * vv;
+    if (margin > S(0)) {
+        const S core = std::sqrt(vv);
+        if (core > margin) rel_term = rel_tolerance * core * (core - margin);
+    }
+    const S excess = vv - vw - rel_term;
+    return excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2;
+}
+
 /// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0, the shapes' summed margins, enables the boolean
 /// early exit (stop as soon as a plane proves the core distance exceeds it) and sets the distance tolerance
 /// relative to the distance the caller gets (core distance − margin). Returns the status on the cores; `v` is the
@@ -547,19 +566,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             // v·w/|v| is a lower bound on the distance (the plane through w orthogonal to v supports D; the
             // boolean test above already kept it). Converged: the gap between upper bound |v| and the lower
             // bound is within tolerance (the ε·|v|·size term is the rounding floor of v·w).
-            const S vw = v.dot(x.w);
-            // gap ≤ ε_rel·|v|² + 16·ε·|v|·size, compared in squares (no sqrt per iteration). With margins
-            // (capsules, spheres, Inflated: GJK runs on the cores) the caller gets |v| − margin, so the
-            // relative term is ε_rel·|v|·(|v| − margin): ε_rel·|v|² would be ε_rel·(1 + margin/distance)
-            // relative on the result (2e-8 on close capsule pairs). Within the margin (overlap) only the
-            // decision matters and ε_rel·|v|² stays.
-            S rel_term = settings.rel_tolerance * vv;
-            if (early_exit_margin > S(0)) {
-                const S core = std::sqrt(vv);
-                if (core > early_exit_margin) rel_term = settings.rel_tolerance * core * (core - early_exit_margin);
-            }
-            const S excess = vv - vw - rel_term;
-            if (excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2) {
+            if (gap_converged(vv, v.dot(x.w), early_exit_margin, size2, settings.rel_tolerance)) {
                 status = GjkStatus::separated;
                 break;
             }
@@ -827,14 +834,7 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
             if (duplicate) { momentum = false; continue; }
         } else {
             // Converged on |v| (v a point of D): as gjk_loop; gjk_finish then decides touching / separated.
-            const S vw = dw;
-            S rel_term = settings.rel_tolerance * vv;
-            if (margin > S(0)) {
-                const S core = std::sqrt(vv);
-                if (core > margin) rel_term = settings.rel_tolerance * core * (core - margin);
-            }
-            const S excess = vv - vw - rel_term;
-            if (excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2) {
+            if (gap_converged(vv, dw, margin, size2, settings.rel_tolerance)) {
                 status = GjkStatus::separated;
                 break;
             }
