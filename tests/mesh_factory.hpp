@@ -70,6 +70,33 @@ template <class S> TriangleMesh<S> deformed(const TriangleMesh<S>& m, double amo
     return d;
 }
 
+/// The surface of a box of half extents h centred at the origin, each face split into 2·n² triangles facing
+/// outwards (faces do not share vertices). Face-to-face poses tie many triangle pairs, and at an axis-aligned
+/// pose box bounds are exact: tests of pruning bounds need both.
+template <class S = double> TriangleMesh<S> grid_box(const Vec3<double>& h, int n) {
+    TriangleMesh<S> m;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const Index base = Index(m.vertices.size());
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n; ++j) {
+                    Vec3<double> p;
+                    p[axis] = sign * h[axis];
+                    p[u] = h[u] * (2.0 * i / n - 1);
+                    p[v] = h[v] * (2.0 * j / n - 1);
+                    m.vertices.push_back(p.cast<S>());
+                }
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    const Index a = base + Index(i * (n + 1) + j), b = a + 1, c = a + Index(n + 1), d = c + 1;
+                    if (sign > 0) m.triangles.push_back({a, c, d}), m.triangles.push_back({a, d, b});
+                    else m.triangles.push_back({a, d, c}), m.triangles.push_back({a, b, d});
+                }
+        }
+    return m;
+}
+
 /// A uniformly random rotation (from a uniform unit quaternion).
 template <class S = double> Mat3<S> random_rotation(std::mt19937_64& rng) {
     std::normal_distribution<double> g;

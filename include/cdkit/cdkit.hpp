@@ -15,6 +15,8 @@
 #include "cdkit/bv/triangle_moments.hpp"
 #include "cdkit/bvh/boxtree.hpp"
 #include "cdkit/bvh/boxtree_collide.hpp"
+#include "cdkit/bvh/boxtree_distance.hpp"
+#include "cdkit/bvh/boxtree_node.hpp"
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/build.hpp"
 #include "cdkit/bvh/mesh_model.hpp"

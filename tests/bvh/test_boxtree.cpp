@@ -16,6 +16,10 @@
 #include <cmath>
 #include <thread>
 
+#if defined(CDKIT_HAS_TBB)
+#include <tbb/task_arena.h>
+#endif
+
 using namespace cdkit;
 
 namespace {
@@ -74,6 +78,26 @@ TEST_CASE("Restricted boxtree: 8-byte nodes and build invariants", "[boxtree]") 
             REQUIRE_NOTHROW(soup.validate());
             CHECK(check_leaf_boxes(soup) == 500);
         }
+}
+
+TEST_CASE("Restricted boxtree: the parallel build lays out the same nodes as on one thread", "[boxtree][threads]") {
+    // 40,000 triangles: above the size from which subtrees are grown in parallel.
+    const auto mesh = std::make_shared<const TriangleMesh<double>>(test::uv_sphere<double>(1.0, 100, 200));
+    const RestrictedBoxtree<double> parallel(mesh);
+    std::vector<BoxtreeNode> serial;
+#if defined(CDKIT_HAS_TBB)
+    tbb::task_arena one(1);
+    one.execute([&] { serial = RestrictedBoxtree<double>(mesh).nodes(); });
+#else
+    serial = RestrictedBoxtree<double>(mesh).nodes();
+#endif
+    REQUIRE(serial.size() == parallel.nodes().size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < serial.size(); ++i)
+        differ += serial[i].bits != parallel.nodes()[i].bits || serial[i].plane != parallel.nodes()[i].plane;
+    CHECK(differ == 0);
+    REQUIRE_NOTHROW(parallel.validate());
+    CHECK(check_leaf_boxes(parallel) == mesh->num_triangles());
 }
 
 TEST_CASE("Restricted boxtree: degenerate input", "[boxtree]") {
