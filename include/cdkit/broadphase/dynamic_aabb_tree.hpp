@@ -180,7 +180,8 @@ public:
         std::size_t w = 0;
         for (std::size_t r = 0; r < pairs_.size(); ++r) {
             const ObjectPair p = pairs_[r];
-            if (!slots_.alive(p.a) | !slots_.alive(p.b) | (moved_[p.a] != 0) | (moved_[p.b] != 0)) continue;
+            // A sum, not ||: one branch for four unpredictable conditions.
+            if (int(!slots_.alive(p.a)) + int(!slots_.alive(p.b)) + int(moved_[p.a] != 0) + int(moved_[p.b] != 0) != 0) continue;
             pairs_[w++] = p;
             if (overlap_branch_free(slots_.box(p.a), slots_.box(p.b))) f(p.a, p.b);
         }
@@ -254,8 +255,8 @@ private:
     /// overlap() without short-circuits: in the pair scans the outcome is unpredictable (about one fat pair
     /// in five overlaps), so six compares and one branch beat up to six mispredictable branches.
     [[nodiscard]] static bool overlap_branch_free(const BroadBox<S>& a, const BroadBox<S>& b) noexcept {
-        return (a.lo.x() <= b.hi.x()) & (b.lo.x() <= a.hi.x()) & (a.lo.y() <= b.hi.y()) & (b.lo.y() <= a.hi.y()) &
-               (a.lo.z() <= b.hi.z()) & (b.lo.z() <= a.hi.z());
+        return int(a.lo.x() <= b.hi.x()) + int(b.lo.x() <= a.hi.x()) + int(a.lo.y() <= b.hi.y()) + int(b.lo.y() <= a.hi.y()) +
+                   int(a.lo.z() <= b.hi.z()) + int(b.lo.z() <= a.hi.z()) == 6;
     }
     [[nodiscard]] static BroadBox<S> merge(const BroadBox<S>& a, const BroadBox<S>& b) noexcept {
         return {a.lo.cwiseMin(b.lo), a.hi.cwiseMax(b.hi)};
