@@ -3,6 +3,7 @@
 /// build fits each node's PCA frame (Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996) from sums of ten
 /// numbers per triangle instead of re-deriving outer products from the vertices at every level.
 
+#include "cdkit/core/detail/parallel_loop.hpp"
 #include "cdkit/core/mesh.hpp"
 
 #include <vector>
@@ -25,7 +26,8 @@ struct MeshMoments {
     std::vector<TriangleMoments> triangles;
 };
 
-template <class S> [[nodiscard]] MeshMoments triangle_moments(const TriangleMesh<S>& mesh) {
+/// Triangles in parallel blocks when `parallel` (and TBB is on): the same numbers either way.
+template <class S> [[nodiscard]] MeshMoments triangle_moments(const TriangleMesh<S>& mesh, bool parallel = true) {
     using D3 = Eigen::Matrix<double, 3, 1>;
     MeshMoments out;
     if (mesh.vertices.empty()) return out;
@@ -33,7 +35,7 @@ template <class S> [[nodiscard]] MeshMoments triangle_moments(const TriangleMesh
     for (const auto& v : mesh.vertices) lo = lo.cwiseMin(v.template cast<double>()), hi = hi.cwiseMax(v.template cast<double>());
     out.origin = (lo + hi) / 2;
     out.triangles.resize(mesh.triangles.size());
-    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    detail::for_each_index(mesh.triangles.size(), [&](std::size_t i) {
         const auto& t = mesh.triangles[i];
         const D3 p = mesh.vertices[t[0]].template cast<double>() - out.origin;
         const D3 q = mesh.vertices[t[1]].template cast<double>() - out.origin;
@@ -48,7 +50,7 @@ template <class S> [[nodiscard]] MeshMoments triangle_moments(const TriangleMesh
         for (int a = 0; a < 3; ++a)
             for (int b = a; b < 3; ++b)
                 tm.second[s++] = w * (9.0 * m[a] * m[b] + p[a] * p[b] + q[a] * q[b] + r[a] * r[b]);
-    }
+    }, parallel);
     return out;
 }
 

@@ -7,6 +7,7 @@
 #include "cdkit/bv/triangle_moments.hpp"
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/detail/morton_order.hpp"
+#include "cdkit/core/detail/parallel_loop.hpp"
 #include "cdkit/core/error.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -89,12 +90,13 @@ template <class S> struct TriangleBounds {
 };
 
 template <class S> [[nodiscard]] std::vector<TriangleBounds<S>> triangle_bounds(const TriangleMesh<S>& mesh,
-                                                                                const std::vector<Vec3<S>>& centroid) {
+                                                                                const std::vector<Vec3<S>>& centroid,
+                                                                                bool parallel) {
     std::vector<TriangleBounds<S>> out(mesh.triangles.size());
-    for (std::size_t i = 0; i < out.size(); ++i) {
+    for_each_index(out.size(), [&](std::size_t i) {
         for (Index v : mesh.triangles[i]) out[i].box.add(mesh.vertices[v]);
         out[i].centroid = centroid[i];
-    }
+    }, parallel);
     return out;
 }
 
@@ -220,16 +222,21 @@ public:
 
     /// Works on a Morton-ordered copy of `mesh` (detail/morton_order.hpp); take_order() maps back.
     TopDownBuilder(const TriangleMesh<S>& mesh, const BuildOptions& options)
-        : local_(morton_ordered(mesh)), mesh_(local_.mesh), options_(options),
+        : local_(morton_ordered(mesh, parallel_precompute(mesh, options))), mesh_(local_.mesh), options_(options),
           leaf_max_(std::max<std::uint32_t>(1, options.max_leaf_triangles)), order_(mesh.triangles.size()),
           centroid_(mesh.triangles.size()) {
+        // Per-triangle precomputation: in parallel blocks (same numbers) when the build is parallel.
+        const bool parallel = parallel_precompute(mesh, options);
         std::iota(order_.begin(), order_.end(), Index(0));
-        for (std::size_t i = 0; i < centroid_.size(); ++i) {
+        for_each_index(centroid_.size(), [&](std::size_t i) {
             const Triangle& t = mesh_.triangles[i];
             centroid_[i] = (mesh_.vertices[t[0]] + mesh_.vertices[t[1]] + mesh_.vertices[t[2]]) / S(3);
-        }
-        if constexpr (FitsFromMoments<BV>) moments_ = triangle_moments(mesh_);
-        if (options.split == SplitStrategy::sah) tri_bounds_ = triangle_bounds(mesh_, centroid_);
+        }, parallel);
+        if constexpr (FitsFromMoments<BV>) moments_ = triangle_moments(mesh_, parallel);
+        if (options.split == SplitStrategy::sah) tri_bounds_ = triangle_bounds(mesh_, centroid_, parallel);
+    }
+    [[nodiscard]] static bool parallel_precompute(const TriangleMesh<S>& mesh, const BuildOptions& options) noexcept {
+        return options.parallel && mesh.triangles.size() >= options.parallel_min_triangles;
     }
 
     /// Fits `w`'s BV into `node` (unless `fitted`: it is there already) and makes it a leaf when it holds
@@ -394,7 +401,7 @@ template <class BV> [[nodiscard]] Bvh<BV> build_same_scalar(const TriangleMesh<t
     const std::size_t n = mesh.triangles.size();
     if (n == 0) return {};
     detail::TopDownBuilder<BV> builder(mesh, options);
-    const std::uint32_t leaf_max = std::max<std::uint32_t>(1, options.max_leaf_triangles);
+    [[maybe_unused]] const std::uint32_t leaf_max = std::max<std::uint32_t>(1, options.max_leaf_triangles);
     std::vector<Node> nodes(builder.node_count(std::uint32_t(n)));
     const Pending root{0, 0, std::uint32_t(n), 1};
 #if defined(CDKIT_HAS_TBB)

@@ -12,6 +12,7 @@
 #include "cdkit/bv/fit.hpp"
 #include "cdkit/bvh/boxtree_node.hpp"
 #include "cdkit/bvh/detail/morton_order.hpp"
+#include "cdkit/core/detail/parallel_loop.hpp"
 #include "cdkit/core/error.hpp"
 #include "cdkit/core/mesh.hpp"
 
@@ -44,7 +45,8 @@ template <class S> [[nodiscard]] Vec3<S> boxtree_centre(const TriangleMesh<S>& m
     return lo * S(0.5) + hi * S(0.5);
 }
 
-/// Every triangle's box in the local frame around `centre`; the centroids (local) too when asked.
+/// Every triangle's box in the local frame around `centre`; the centroids (local) too when asked. In
+/// parallel blocks for large meshes (same numbers).
 template <class S>
 [[nodiscard]] std::vector<BoxtreeTriBox> boxtree_triangle_boxes(const TriangleMesh<S>& mesh, const Vec3<S>& centre,
                                                                 std::vector<Vec3<double>>* centroids = nullptr) {
@@ -52,7 +54,7 @@ template <class S>
     std::vector<BoxtreeTriBox> tri(n);
     if (centroids) centroids->assign(n, Vec3<double>::Zero());
     const Vec3<double> c = centre.template cast<double>();
-    for (std::size_t i = 0; i < n; ++i)
+    for_each_index(n, [&](std::size_t i) {
         for (Index v : mesh.triangles[i]) {
             const Vec3<double> p = mesh.vertices[v].template cast<double>();
             const Vec3<double> l = p - c;
@@ -61,6 +63,7 @@ template <class S>
             for (int k = 0; k < 3; ++k) tb.box[k] = std::min(tb.box[k], l[k]), tb.box[k + 3] = std::max(tb.box[k + 3], l[k]);
             tb.magnitude = std::max({tb.magnitude, p.cwiseAbs().maxCoeff(), l.cwiseAbs().maxCoeff()});
         }
+    });
     return tri;
 }
 

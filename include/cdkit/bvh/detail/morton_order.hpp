@@ -6,6 +6,7 @@
 /// vertices then sit close together in memory: on the 871k-triangle dragon, whose file order is not
 /// coherent, an Obb build spends about 28% less time waiting for memory.
 
+#include "cdkit/core/detail/parallel_loop.hpp"
 #include "cdkit/core/mesh.hpp"
 
 #include <algorithm>
@@ -32,8 +33,8 @@ template <class S> struct MortonOrderedMesh {
 }
 
 /// The mesh (valid: finite, indices in range) in Morton order; equal keys keep their input order, so the
-/// result is deterministic.
-template <class S> [[nodiscard]] MortonOrderedMesh<S> morton_ordered(const TriangleMesh<S>& in) {
+/// result is deterministic. Keys in parallel blocks when `parallel` (and TBB is on).
+template <class S> [[nodiscard]] MortonOrderedMesh<S> morton_ordered(const TriangleMesh<S>& in, bool parallel = true) {
     const std::size_t n = in.triangles.size();
     MortonOrderedMesh<S> out;
     out.mesh.source = in.source;
@@ -46,7 +47,7 @@ template <class S> [[nodiscard]] MortonOrderedMesh<S> morton_ordered(const Trian
         if (!(scale[k] <= std::numeric_limits<double>::max())) scale[k] = 0.0;  // extent below ~1e-302: one key
     }
     std::vector<std::uint64_t> key(n);
-    for (std::size_t i = 0; i < n; ++i) {
+    for_each_index(n, [&](std::size_t i) {
         const Triangle& t = in.triangles[i];
         const Vec3<double> c =
             (in.vertices[t[0]].template cast<double>() + in.vertices[t[1]].template cast<double>() + in.vertices[t[2]].template cast<double>()) / 3.0;
@@ -56,7 +57,7 @@ template <class S> [[nodiscard]] MortonOrderedMesh<S> morton_ordered(const Trian
             code |= spread_bits_3(std::uint64_t(q)) << k;
         }
         key[i] = code;
-    }
+    }, parallel);
     // LSD radix sort of the indices by key, 8 bits a pass (stable: ties keep the input order); passes whose
     // byte is the same for every key are skipped.
     std::vector<Index> order(n), spare(n);
