@@ -6,8 +6,8 @@
 /// queries with swept sphere volumes", UNC TR99-018, 1999) on the boxes a restricted boxtree implies
 /// (Zachmann, "Minimal hierarchical collision detection", VRST 2002): an open pair carries both trees'
 /// current boxes, each in its tree's local frame, and a child's box is its parent's with one face moved.
-/// A pair's lower bound is that of two oriented boxes (bv_distance.hpp: the circumscribed spheres' gap,
-/// then the 15 separating-axis gaps), with the boxtree collision query's slack (boxtree_relative), which
+/// A pair's lower bound is that of two oriented boxes (as in bv_distance.hpp: the circumscribed spheres'
+/// gap, then the gaps along the six face axes), with the boxtree collision query's slack (boxtree_relative), which
 /// covers the rounding of the model-frame transforms that the triangle test works with. So, as for the
 /// other trees, with rel_err = abs_err = 0 the answer is bit for bit the minimum of triangle_distance()
 /// over all triangle pairs, the value distance_brute_force() computes.
@@ -48,7 +48,13 @@ template <class S>
     const Vec3<S> T = rel.R * cb + rel.t - ca;
     const S sphere = sphere_gap_lower_bound(ha, hb, T, rel.slack);
     if (sphere >= cutoff) return sphere;
-    return std::max(sphere, box_gap_lower_bound(ha, hb, rel.R, rel.abs_R, T, rel.slack));
+    // The six face axes (box_gap_lower_bound without its nine edge axes, which on the bunny cut the bound
+    // evaluations by a seventh but cost more than that: 15–20 % slower queries).
+    const Vec3<S> wa = ha + Vec3<S>::Constant(rel.slack);
+    S gap = sphere;
+    for (int i = 0; i < 3; ++i) gap = std::max(gap, std::abs(T[i]) - (wa[i] + rel.abs_R.row(i).dot(hb)));
+    for (int j = 0; j < 3; ++j) gap = std::max(gap, std::abs(rel.R.col(j).dot(T)) - (hb[j] + rel.abs_R.col(j).dot(wa)));
+    return lowered(gap, wa, hb, T);
 }
 }  // namespace detail
 
