@@ -113,6 +113,17 @@ template <class S>
     return true;
 }
 
+/// Which tree a simultaneous descent of node x (box a) and node y (box b), not both leaves, splits next: the
+/// one that is not at a leaf; else a one-child node first (one cheap step that only tightens: 12 % fewer
+/// steps on the bunny); else the larger box by sum of extents. True: A's.
+[[nodiscard]] inline bool boxtree_descends_a(const BoxtreeNode& x, const BoxtreeNode& y, const FloatBox& a,
+                                             const FloatBox& b) noexcept {
+    const auto extent = [](const FloatBox& box) { return (box[3] - box[0]) + (box[4] - box[1]) + (box[5] - box[2]); };
+    using Kind = BoxtreeNode::Kind;
+    return y.is_leaf() || (!x.is_leaf() && (x.kind() == Kind::one_child ||
+                                            (y.kind() != Kind::one_child && extent(a) >= extent(b))));
+}
+
 template <class S> [[nodiscard]] S box_magnitude(const FloatBox& b) noexcept {
     S m = 0;
     for (float x : b) m = std::max(m, S(std::abs(x)));
@@ -186,14 +197,12 @@ template <class S>
     };
     detail::SmallStack<Pair, 128> stack;
     Pair p{0, 0, detail::restrict_box(a.root_box(), na[0]), detail::restrict_box(b.root_box(), nb[0])};
-    auto extent = [](const FloatBox& x) { return (x[3] - x[0]) + (x[4] - x[1]) + (x[5] - x[2]); };
     // Depth first: the pair in hand goes on with its first overlapping child pair, the second waits on the
     // stack; a pair with none takes the next from the stack.
     for (;;) {
         const Node& x = na[p.a];
         const Node& y = nb[p.b];
-        const bool xl = x.is_leaf(), yl = y.is_leaf();
-        if (xl && yl) {
+        if (x.is_leaf() && y.is_leaf()) {
             ++out.stats.bv_tests;
             if (detail::triangle_boxes_overlap(ma, x.index(), mb, y.index(), b_to_a)) {
                 ++out.stats.leaf_pairs;
@@ -202,11 +211,7 @@ template <class S>
                     return out;
             }
         } else {
-            // Descend the tree that is not at a leaf; else a one-child node first (one cheap step that only
-            // tightens: 12 % fewer steps on the bunny); else the larger box.
-            const bool descend_a =
-                yl || (!xl && (x.kind() == Node::Kind::one_child ||
-                               (y.kind() != Node::Kind::one_child && extent(p.box_a) >= extent(p.box_b))));
+            const bool descend_a = detail::boxtree_descends_a(x, y, p.box_a, p.box_b);
             const Node& parent = descend_a ? x : y;
             const std::uint32_t first = parent.index();
             const bool two = parent.kind() == Node::Kind::two_children;

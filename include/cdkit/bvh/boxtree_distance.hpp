@@ -83,7 +83,6 @@ template <class S>
     const S scale = S(1) / (S(1) + std::max(S(0), request.rel_err));
     const S abs_err = std::max(S(0), request.abs_err);
     const auto threshold = [&]() noexcept { return (out.distance - abs_err) * scale; };
-    const auto extent = [](const FloatBox& x) { return (x[3] - x[0]) + (x[4] - x[1]) + (x[5] - x[2]); };
     // Min-heap on the bound (std::push_heap keeps the greatest first, hence the reversed order).
     const auto later = [](const Item& x, const Item& y) { return y.bound < x.bound; };
     static thread_local std::vector<Item> heap;
@@ -96,16 +95,12 @@ template <class S>
         if (it.bound < threshold()) {  // `it` is the smallest open pair: when it fails, all do
             const Node& x = na[it.a];
             const Node& y = nb[it.b];
-            const bool xl = x.is_leaf(), yl = y.is_leaf();
-            if (xl && yl) {
+            if (x.is_leaf() && y.is_leaf()) {
                 detail::distance_triangle_pair(ma, x.index(), mb, y.index(), b_to_a, out);
                 if (out.distance == S(0)) break;  // intersecting: nothing can be nearer
             } else {
-                // Descend the tree that is not at a leaf; else a one-child node first (it only tightens);
-                // else the larger box. Children's bounds go on the heap; the smallest comes back first.
-                const bool descend_a =
-                    yl || (!xl && (x.kind() == Node::Kind::one_child ||
-                                   (y.kind() != Node::Kind::one_child && extent(it.box_a) >= extent(it.box_b))));
+                // The children's bounds go on the heap; the smallest comes back first.
+                const bool descend_a = detail::boxtree_descends_a(x, y, it.box_a, it.box_b);
                 const Node& parent = descend_a ? x : y;
                 const std::uint32_t first = parent.index();
                 const std::uint32_t count = parent.kind() == Node::Kind::two_children ? 2 : 1;
