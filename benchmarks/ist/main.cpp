@@ -17,7 +17,8 @@
 //   24 poses, 2M samples.
 //   --counts N,M,...: sphere counts instead of the mode's.
 //   --depth-calibration, --no-depth-calibration, --calibration-iterations N, --calibration-strength A: set
-//   PackingOptions::depth_calibration(_iterations, _strength) (default: the library's defaults).
+//   PackingOptions::depth_calibration(_iterations, _strength) (default: the library's defaults; a negative
+//   strength derives it from self-contacts); --contact-depth F sets PackingOptions::depth_calibration_contact_depth.
 //   --plots DIR: instead, write the CSV files that benchmarks/ist/plot_ist.py draws (docs/images/ist_*.png):
 //   the packing's cross-section at 1k and 10k spheres, the tree's levels 1-3, force and torque along a path.
 #include "../thread_cpu_clock.hpp"
@@ -83,7 +84,7 @@ struct Row {
     double coverage = 0, pack_s = 0, pack_cpu_s = 0, tree_s = 0;
     std::size_t depth = 0, nodes = 0;
     double q_median = 0, q_p99 = 0, tests_median = 0, pairs_median = 0;
-    double raw_err_median = 0, cal_err_median = 0, cal_err_max = 0, cal_bias = 0;
+    double raw_err_median = 0, cal_err_median = 0, cal_err_max = 0, cal_bias = 0, alpha = 0;
 };
 
 // ist_query's one descent against the two traversals it replaces (penetration_volume, then sphere_distance
@@ -185,6 +186,7 @@ int main(int argc, char** argv) {
     std::vector<std::size_t> user_counts;
     int calibration_iterations = PackingOptions{}.depth_calibration_iterations;
     double calibration_strength = PackingOptions{}.depth_calibration_strength;
+    double contact_depth = 0;
     long samples = -1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -206,10 +208,11 @@ int main(int argc, char** argv) {
         }
         else if (a == "--calibration-iterations" && i + 1 < argc) calibration_iterations = std::atoi(argv[++i]);
         else if (a == "--calibration-strength" && i + 1 < argc) calibration_strength = std::atof(argv[++i]);
+        else if (a == "--contact-depth" && i + 1 < argc) contact_depth = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]\n"
                          "                       [--counts N,M,...] [--[no-]depth-calibration] [--calibration-iterations N]\n"
-                         "                       [--calibration-strength A]\n");
+                         "                       [--calibration-strength A] [--contact-depth F]\n");
             return 2;
         }
     }
@@ -288,6 +291,7 @@ int main(int argc, char** argv) {
             po.depth_calibration = depth_calibration;
             po.depth_calibration_iterations = calibration_iterations;
             po.depth_calibration_strength = calibration_strength;
+            if (contact_depth > 0) po.depth_calibration_contact_depth = contact_depth;
             const double t0 = wall_seconds(), c0 = process_seconds();
             const SpherePacking packing = pack_spheres(mesh, po);
             const double pack_s = wall_seconds() - t0, pack_cpu_s = process_seconds() - c0;
@@ -308,6 +312,7 @@ int main(int argc, char** argv) {
                 row.spheres = tree.spheres().size();
                 row.degree = degree;
                 row.coverage = tree.coverage();
+                row.alpha = packing.calibration_strength;
                 row.depth = tree.stats().depth;
                 row.nodes = tree.nodes().size();
                 std::vector<double> times, tests, pairs, raw_err, cal_err;
@@ -379,12 +384,12 @@ int main(int argc, char** argv) {
         for (const auto& c : curve) std::printf("| %zu | %zu | %.1f%% |\n", c.packing, c.spheres, 100 * c.coverage);
         std::printf("\n## Build, volume query at δ = -0.05, error against Monte Carlo\n\n");
         std::printf("| spheres | out-degree | coverage | pack s | pack cpu s | tree s | depth | nodes | query median µs | p99 µs | "
-                    "node tests | pairs | raw error (median) | calibrated error (median) | calibrated error (max) | calibrated bias (mean signed) |\n");
-        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                    "node tests | pairs | raw error (median) | calibrated error (median) | calibrated error (max) | calibrated bias (mean signed) | α |\n");
+        std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const Row& r : rows)
-            std::printf("| %zu | %d | %.1f%% | %.2f | %.2f | %.3f | %zu | %zu | %.1f | %.1f | %.0f | %.0f | %.1f%% | %.1f%% | %.1f%% | %+.1f%% |\n",
+            std::printf("| %zu | %d | %.1f%% | %.2f | %.2f | %.3f | %zu | %zu | %.1f | %.1f | %.0f | %.0f | %.1f%% | %.1f%% | %.1f%% | %+.1f%% | %.2f |\n",
                         r.spheres, r.degree, 100 * r.coverage, r.pack_s, r.pack_cpu_s, r.tree_s, r.depth, r.nodes, r.q_median, r.q_p99,
-                        r.tests_median, r.pairs_median, 100 * r.raw_err_median, 100 * r.cal_err_median, 100 * r.cal_err_max, 100 * r.cal_bias);
+                        r.tests_median, r.pairs_median, 100 * r.raw_err_median, 100 * r.cal_err_median, 100 * r.cal_err_max, 100 * r.cal_bias, r.alpha);
         std::printf("\n## ist_query: one descent against the two traversals (out-degree %d)\n\n"
                     "Median thread-CPU µs per query over the poses; \"same\": poses where volume, calibrated volume and "
                     "(when apart) distance are bit for bit equal.\n\n"
@@ -397,11 +402,11 @@ int main(int argc, char** argv) {
             std::ofstream f(csv);
             if (!f) throw Error(csv, "", "cannot open for writing");
             f << "spheres,out_degree,coverage,pack_s,pack_cpu_s,tree_s,depth,nodes,query_median_us,query_p99_us,node_tests_median,"
-                 "pairs_median,raw_rel_err_median,cal_rel_err_median,cal_rel_err_max,cal_rel_bias\n";
+                 "pairs_median,raw_rel_err_median,cal_rel_err_median,cal_rel_err_max,cal_rel_bias,alpha\n";
             for (const Row& r : rows)
                 f << r.spheres << ',' << r.degree << ',' << r.coverage << ',' << r.pack_s << ',' << r.pack_cpu_s << ',' << r.tree_s << ','
                   << r.depth << ',' << r.nodes << ',' << r.q_median << ',' << r.q_p99 << ',' << r.tests_median << ','
-                  << r.pairs_median << ',' << r.raw_err_median << ',' << r.cal_err_median << ',' << r.cal_err_max << ',' << r.cal_bias << '\n';
+                  << r.pairs_median << ',' << r.raw_err_median << ',' << r.cal_err_median << ',' << r.cal_err_max << ',' << r.cal_bias << ',' << r.alpha << '\n';
         }
         return 0;
     } catch (const std::exception& e) {

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <queue>
 #include <type_traits>
+#include <vector>
 
 namespace cdkit {
 namespace {
@@ -127,15 +129,13 @@ void volume_descent(const InnerSphereTree& a, const InnerSphereTree& b, const Fr
     out.calibrated = calibrated;
 }
 
-}  // namespace
-
-PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Transform<double>& pose_a,
-                                           const InnerSphereTree& b, const Transform<double>& pose_b,
-                                           const IstRequest& request) {
-    PenetrationVolumeResult out;
-    const std::optional<Frame> frame = query_frame(a, pose_a, b, pose_b, out.status);
-    if (!frame) return out;
-    const Frame& to_a = *frame;
+/// The time-critical volume traversal, shared by penetration_volume() and ist_query(): pairs expanded best
+/// first by their bound, stopped at the node budget (see ist_query.hpp). `on_apart(a, b, |c_a − c_b|²)`
+/// receives every pair whose bounding spheres are apart while no inner spheres have overlapped yet (the
+/// distance frontier of ist_query()).
+template <class OnApart>
+void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const Frame& to_a, const IstRequest& request,
+                       PenetrationVolumeResult& out, OnApart&& on_apart) {
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
     const auto& wa = a.cell_weights();
@@ -149,18 +149,6 @@ PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Trans
         calibrated += v * wa[x.first] * wb[y.first];
         if (request.collect_pairs) out.pairs.push_back({x.first, y.first, v});
     };
-    auto overlaps = [&](const IstNode& x, const Vec3d& cx, const IstNode& y, const Vec3d& cy) {
-        ++out.stats.node_tests;
-        const double rr = x.radius + y.radius;
-        return (cx - cy).squaredNorm() < rr * rr;
-    };
-
-    if (request.max_node_tests == 0) {
-        volume_descent<false>(a, b, to_a, request.collect_pairs, out, nullptr, [](auto&&...) {});
-        return out;
-    }
-
-    // Time-critical: best first by bound, stop at the budget.
     struct Item {
         double bound, estimate;
         std::uint32_t a, b;
@@ -171,7 +159,13 @@ PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Trans
         const IstNode& x = na[ia];
         const IstNode& y = nb[ib];
         const Vec3d cy = to_a(y.center);
-        if (!overlaps(x, x.center, y, cy)) return;
+        ++out.stats.node_tests;
+        const double rr = x.radius + y.radius;
+        const double d2 = (x.center - cy).squaredNorm();
+        if (!(d2 < rr * rr)) {
+            if (exact == 0) on_apart(ia, ib, d2);
+            return;
+        }
         if (x.is_leaf() && y.is_leaf()) return leaf_pair(x, y, cy);
         const double lens = sphere_intersection_volume(x.radius, y.radius, (x.center - cy).norm());
         const double bound = std::min({x.volume, y.volume, lens});
@@ -202,6 +196,22 @@ PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Trans
     out.volume = exact + rest_estimate;
     const double cov = std::max(a.coverage() * b.coverage(), 1e-12);
     out.calibrated = calibrated + rest_estimate / cov;
+}
+
+}  // namespace
+
+PenetrationVolumeResult penetration_volume(const InnerSphereTree& a, const Transform<double>& pose_a,
+                                           const InnerSphereTree& b, const Transform<double>& pose_b,
+                                           const IstRequest& request) {
+    PenetrationVolumeResult out;
+    const std::optional<Frame> frame = query_frame(a, pose_a, b, pose_b, out.status);
+    if (!frame) return out;
+    const Frame& to_a = *frame;
+    if (request.max_node_tests == 0) {
+        volume_descent<false>(a, b, to_a, request.collect_pairs, out, nullptr, [](auto&&...) {});
+        return out;
+    }
+    volume_best_first(a, b, to_a, request, out, [](std::uint32_t, std::uint32_t, double) {});
     return out;
 }
 
@@ -273,33 +283,79 @@ IstDistanceResult sphere_distance(const InnerSphereTree& a, const Transform<doub
 
 namespace {
 
-/// The two-pass combined query, kept for the time-critical mode: the best-first volume traversal, then the
-/// distance traversal when no inner spheres overlap (each with the full budget).
-IstQueryResult ist_query_two_pass(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
-                                  const Transform<double>& pose_b, const IstRequest& request) {
-    IstQueryResult out;
-    out.volume = penetration_volume(a, pose_a, b, pose_b, request);
-    out.status = out.volume.status;
-    if (out.status != QueryStatus::ok) return out;
-    out.overlapping = out.volume.volume_lower > 0;
+/// The combined query with a node budget, in one pass over one budget: the best-first volume traversal
+/// (volume_best_first(), so the volume part is penetration_volume()'s with the same budget) keeps the pairs
+/// whose bounding spheres are apart while no inner spheres overlap; if it ends without an overlap, the
+/// distance search goes on from them, best first, with what is left of the budget.
+void ist_query_budget(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b, const Frame& to_a,
+                      const IstRequest& request, IstQueryResult& out) {
+    const auto& na = a.nodes();
+    const auto& nb = b.nodes();
+    std::vector<PairKey> far;  // pairs apart, keyed by their distance bound
+    // Bounds formed as sphere_distance() forms them (Eigen's norm() is the root of squaredNorm()).
+    volume_best_first(a, b, to_a, request, out.volume, [&](std::uint32_t ia, std::uint32_t ib, double d2) {
+        far.push_back({ia, ib, std::sqrt(d2) - na[ia].radius - nb[ib].radius});
+    });
     out.stats = out.volume.stats;
-    if (!out.overlapping) {
-        out.distance = sphere_distance(a, pose_a, b, pose_b, request);
-        out.overlapping = out.distance.complete && out.distance.distance <= 0 && out.volume.volume_upper > 0;
-        out.stats.node_tests += out.distance.stats.node_tests;
-        out.stats.leaf_pairs += out.distance.stats.leaf_pairs;
-    } else {
-        out.distance.distance = 0;
-        out.distance.lower_bound = 0;
+    out.overlapping = out.volume.volume_lower > 0;
+    if (out.overlapping) {
+        out.distance.distance = out.distance.lower_bound = 0;
+        out.distance.stats = out.stats;
+        return;
     }
-    return out;
+    double best = std::numeric_limits<double>::infinity();
+    // Pairs of overlapping bounding spheres left unexpanded by the volume traversal bound the distance by 0.
+    double unexplored = out.volume.complete ? std::numeric_limits<double>::infinity() : 0.0;
+    Vec3d pa = Vec3d::Zero(), pb = Vec3d::Zero();
+    auto farther = [](const PairKey& l, const PairKey& r) { return l.key > r.key; };
+    std::make_heap(far.begin(), far.end(), farther);
+    while (!far.empty() && far.front().key < best) {
+        if (out.stats.node_tests >= request.max_node_tests) {
+            unexplored = std::min(unexplored, far.front().key);
+            break;
+        }
+        std::pop_heap(far.begin(), far.end(), farther);
+        const PairKey it = far.back();
+        far.pop_back();
+        const IstNode& x = na[it.a];
+        const IstNode& y = nb[it.b];
+        const Vec3d cy = to_a(y.center);
+        if (x.is_leaf() && y.is_leaf()) {
+            ++out.stats.leaf_pairs;
+            best = it.key;
+            Vec3d u = cy - x.center;
+            const double len = u.norm();
+            u = len > 0 ? Vec3d(u / len) : Vec3d::UnitX();
+            pa = x.center + x.radius * u;
+            pb = cy - y.radius * u;
+            out.distance.sphere_a = x.first;
+            out.distance.sphere_b = y.first;
+            continue;
+        }
+        auto child = [&](std::uint32_t ia, std::uint32_t ib, const IstNode& cx, const IstNode& cn, const Vec3d& c) {
+            ++out.stats.node_tests;
+            const double lb = (cx.center - c).norm() - cx.radius - cn.radius;
+            if (lb < best) far.push_back({ia, ib, lb}), std::push_heap(far.begin(), far.end(), farther);
+        };
+        if (split_a(x, y)) {
+            for (std::uint32_t j = x.first; j < x.first + x.count; ++j) child(j, it.b, na[j], y, cy);
+        } else {
+            for (std::uint32_t j = y.first; j < y.first + y.count; ++j) child(it.a, j, x, nb[j], to_a(nb[j].center));
+        }
+    }
+    out.distance.complete = !(unexplored < best);
+    if (best <= 0) pa = pb = (pa + pb) / 2;
+    out.distance.distance = std::max(0.0, best);
+    out.distance.lower_bound = std::max(0.0, std::min(best, unexplored));
+    out.distance.point_a = pose_a * pa;
+    out.distance.point_b = pose_a * pb;
+    out.distance.stats = out.stats;
 }
 
 }  // namespace
 
 IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose_a, const InnerSphereTree& b,
                          const Transform<double>& pose_b, const IstRequest& request) {
-    if (request.max_node_tests != 0) return ist_query_two_pass(a, pose_a, b, pose_b, request);
     IstQueryResult out;
     const std::optional<Frame> frame = query_frame(a, pose_a, b, pose_b, out.status);
     if (!frame) {
@@ -307,6 +363,10 @@ IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose
         return out;
     }
     const Frame& to_a = *frame;
+    if (request.max_node_tests != 0) {
+        ist_query_budget(a, pose_a, b, to_a, request, out);
+        return out;
+    }
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
 

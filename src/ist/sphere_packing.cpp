@@ -3,12 +3,14 @@
 
 #include "cdkit/ist/closed_mesh.hpp"
 #include "cdkit/ist/inside_test.hpp"
+#include "cdkit/ist/ist_query.hpp"
 #include "cdkit/ist/point_mesh_distance.hpp"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <unordered_map>
@@ -23,12 +25,14 @@ namespace {
 
 using Vec3d = Vec3<double>;
 
-template <class F> void parallel_for_index(std::size_t n, F&& f) {
+/// f(i) for i in [0, n), in parallel by chunks of at least `grain` indices.
+template <class F> void parallel_for_index(std::size_t n, F&& f, std::size_t grain = 256) {
 #if defined(CDKIT_HAS_TBB) && CDKIT_HAS_TBB
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
     });
 #else
+    (void)grain;
     for (std::size_t i = 0; i < n; ++i) f(i);
 #endif
 }
@@ -91,6 +95,242 @@ private:
     std::vector<Level> levels_;
 };
 
+constexpr double pi = 3.14159265358979323846;
+
+/// Volume of a ball of radius r below the height t (measured from its centre, along any axis).
+double ball_below(double r, double t) {
+    t = std::clamp(t, -r, r);
+    return pi * (r + t) * (r + t) * (2 * r - t) / 3;
+}
+
+/// α where the self-contacts cannot tell: the value fitted on the bunny before α was derived (docs/ist.md).
+constexpr double fallback_strength = 0.6;
+
+/// The packing's sample lattice: origin + h·(x, y, z) for 0 ≤ x, y, z < dims; cand_of[g] ≥ 0 marks the
+/// samples inside the mesh, cand_grid lists them.
+struct SampleLattice {
+    Vec3d origin;
+    double h = 0;
+    std::array<std::int64_t, 3> dims{};
+    const std::vector<std::int32_t>* cand_of = nullptr;
+    const std::vector<std::uint32_t>* cand_grid = nullptr;
+};
+
+/// The calibration strength α derived from the object itself, by self-contacts: 64 shallow contacts of two
+/// copies of the mesh, posed as the benchmark poses its contacts (P2, δ < 0). Contact k takes a direction u
+/// (nearly uniform over the sphere) and one of the 24 rotations Q that map the sample lattice onto itself;
+/// the copy B = Q·(A − c) + c + s·u (c: the box centre) comes in along −u until its samples first meet A's
+/// (per column along u, on a lateral grid of the sample spacing), then `depth` further; the translation is
+/// rounded to lattice steps. The reference volume counts the samples inside both (a lattice sample maps to a
+/// lattice sample, so no inside test is needed); the estimate is the query's own, Σ lens · w_a · w_b over
+/// the overlapping pairs of inner spheres. α in [0, 1] zeroes the mean relative error over the contacts
+/// that hold at least 32 samples, by bisection (the estimate grows with α; clamped to [0, 1]); without
+/// such a contact (a very coarse lattice), fallback_strength. `blend(α)`: the weights at strength α.
+template <class Blend>
+double self_contact_strength(const std::vector<InnerSphere>& spheres, const SampleLattice& L,
+                             const Vec3d& centre, double depth, Blend&& blend) {
+    // The 24 rotations of the cube: signed permutation matrices of determinant +1.
+    std::vector<Eigen::Matrix3i> rotations;
+    const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    for (const auto& pm : perms)
+        for (int signs = 0; signs < 8; ++signs) {
+            Eigen::Matrix3i q = Eigen::Matrix3i::Zero();
+            for (int r = 0; r < 3; ++r) q(r, pm[r]) = (signs >> r & 1) ? -1 : 1;
+            if (q.cast<double>().determinant() > 0) rotations.push_back(q);
+        }
+    constexpr int n_contacts = 64;
+    struct Pair {
+        std::uint32_t a, b;
+        double lens;
+    };
+    struct Contact {
+        std::size_t samples = 0;
+        std::vector<Pair> pairs;
+    };
+    std::vector<Contact> contacts(n_contacts);
+    const std::vector<std::int32_t>& cand_of = *L.cand_of;
+    const std::uint64_t nx = std::uint64_t(L.dims[0]), ny = std::uint64_t(L.dims[1]);
+    auto lattice_index = [&](std::uint32_t g) { return Eigen::Vector3i(int(g % nx), int((g / nx) % ny), int(g / (nx * ny))); };
+    auto inside = [&](const Eigen::Vector3i& y) {
+        for (int i = 0; i < 3; ++i)
+            if (y[i] < 0 || y[i] >= L.dims[std::size_t(i)]) return false;
+        return cand_of[std::size_t((std::int64_t(y[2]) * L.dims[1] + y[1]) * L.dims[0] + y[0])] >= 0;
+    };
+    // The shell: samples with a lattice neighbour outside (positions relative to the centre); the first
+    // contact of two copies is among them.
+    std::vector<Eigen::Vector3f> shell;
+    double radius = 0;
+    for (std::uint32_t g : *L.cand_grid) {
+        const Eigen::Vector3i x = lattice_index(g);
+        bool inner = true;
+        for (int i = 0; i < 3 && inner; ++i)
+            for (int d : {-1, 1}) {
+                Eigen::Vector3i y = x;
+                y[i] += d;
+                if (!inside(y)) {
+                    inner = false;
+                    break;
+                }
+            }
+        if (inner) continue;
+        shell.push_back((L.origin + L.h * x.cast<double>() - centre).cast<float>());
+        radius = std::max(radius, double(shell.back().norm()));
+    }
+    parallel_for_index(contacts.size(), [&](std::size_t k) {
+        const double z = 1 - (2.0 * double(k) + 1) / n_contacts, rho = std::sqrt(1 - z * z);
+        const double phi = double(k) * pi * (3 - std::sqrt(5.0));  // Fibonacci lattice on the sphere
+        const Vec3d u(rho * std::cos(phi), rho * std::sin(phi), z);
+        const Vec3d e1 = (std::abs(u.x()) < 0.9 ? Vec3d::UnitX() : Vec3d::UnitY()).cross(u).normalized(), e2 = u.cross(e1);
+        const Eigen::Matrix3i Qi = rotations[(k * 7) % rotations.size()];
+        const Eigen::Matrix3d Q = Qi.cast<double>();
+        // First contact along u: per lateral column of width h, A's highest and B's lowest sample.
+        const int m = 2 * int(std::ceil(radius / L.h)) + 3;
+        std::vector<float> a_top(std::size_t(m) * std::size_t(m), -std::numeric_limits<float>::infinity());
+        std::vector<float> b_low(a_top.size(), std::numeric_limits<float>::infinity());
+        auto column = [&](const Vec3d& p) {
+            const int i = int(std::floor(p.dot(e1) / L.h)) + m / 2, j = int(std::floor(p.dot(e2) / L.h)) + m / 2;
+            return std::size_t(std::clamp(j, 0, m - 1)) * std::size_t(m) + std::size_t(std::clamp(i, 0, m - 1));
+        };
+        for (const Eigen::Vector3f& ps : shell) {
+            const Vec3d p = ps.cast<double>(), q = Q * p;
+            float& t = a_top[column(p)];
+            t = std::max(t, float(p.dot(u)));
+            float& b = b_low[column(q)];
+            b = std::min(b, float(q.dot(u)));
+        }
+        double s0 = -std::numeric_limits<double>::infinity();
+        for (std::size_t c = 0; c < a_top.size(); ++c)
+            if (b_low[c] < std::numeric_limits<float>::infinity()) s0 = std::max(s0, double(a_top[c]) - double(b_low[c]));
+        // B = Q (x − origin) + origin + h·T, with h·T ≈ c + s·u − origin − Q (c − origin).
+        const Vec3d shift = (centre + (s0 - depth) * u - L.origin) / L.h - Q * ((centre - L.origin) / L.h);
+        const Eigen::Vector3i T(int(std::lround(shift.x())), int(std::lround(shift.y())), int(std::lround(shift.z())));
+        auto to_b = [&](const Vec3d& x) { return L.origin + Q * (x - L.origin) + L.h * T.cast<double>(); };
+        Contact& c = contacts[k];
+        double a_high = -std::numeric_limits<double>::infinity();
+        for (float t : a_top) a_high = std::max(a_high, double(t));
+        a_high += 2 * L.h;
+        // Nothing of B lies below its lowest sample (a shell sample), less the rounding of T and a margin.
+        double b_min = std::numeric_limits<double>::infinity();
+        for (float t : b_low) b_min = std::min(b_min, double(t));
+        const double b_floor = b_min + s0 - depth - 3 * L.h;
+        // The reference: lattice points X inside A whose preimage Qᵀ(X − T) is inside A too, searched only in
+        // the box both lattices cover and, along each row, above b_floor.
+        Eigen::Vector3i lo = T, hi = T;
+        for (int corner = 0; corner < 8; ++corner) {
+            Eigen::Vector3i v;
+            for (int i = 0; i < 3; ++i) v[i] = (corner >> i & 1) ? int(L.dims[std::size_t(i)]) - 1 : 0;
+            v = Qi * v + T;
+            lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+        }
+        for (int i = 0; i < 3; ++i) lo[i] = std::max(lo[i], 0), hi[i] = std::min(hi[i], int(L.dims[std::size_t(i)]) - 1);
+        const double c0 = (L.origin - centre).dot(u);
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y) {
+                const double need = (b_floor - c0) / L.h - double(y) * u.y() - double(z) * u.z();  // x·u_x ≥ need
+                double x0 = lo[0], x1 = hi[0];
+                if (u.x() > 0) x0 = std::max(x0, std::ceil(need / u.x()));
+                else if (u.x() < 0) x1 = std::min(x1, std::floor(need / u.x()));
+                else if (need > 0) continue;
+                for (int x = int(x0); double(x) <= x1; ++x) {
+                    const Eigen::Vector3i X(x, y, z);
+                    if (cand_of[std::size_t((std::int64_t(z) * L.dims[1] + y) * L.dims[0] + x)] >= 0) c.samples += inside(Qi.transpose() * (X - T));
+                }
+            }
+        // A's spheres that reach above b_floor: the partners of B's large spheres, which the index would
+        // answer by scanning whole levels of small spheres.
+        std::vector<std::uint32_t> a_slab;
+        for (std::size_t a = 0; a < spheres.size(); ++a)
+            if ((spheres[a].center - centre).dot(u) + spheres[a].radius > b_floor) a_slab.push_back(std::uint32_t(a));
+        // A local grid of cell 8h over the slab's small spheres (each in every cell its box touches); the
+        // large ones are tried against every sphere of B.
+        const double cell = 8 * L.h;
+        auto key = [&](const Eigen::Vector3i& g) {
+            return (std::uint64_t(std::uint32_t(g[0])) & 0x1fffff) | ((std::uint64_t(std::uint32_t(g[1])) & 0x1fffff) << 21) |
+                   ((std::uint64_t(std::uint32_t(g[2])) & 0x1fffff) << 42);
+        };
+        auto cell_of = [&](const Vec3d& x) {
+            return Eigen::Vector3i(int(std::floor(x.x() / cell)), int(std::floor(x.y() / cell)), int(std::floor(x.z() / cell)));
+        };
+        std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+        std::vector<std::uint32_t> a_large;
+        for (std::uint32_t a : a_slab) {
+            const double ra = spheres[a].radius;
+            if (ra > 4 * L.h) {
+                a_large.push_back(a);
+                continue;
+            }
+            const Eigen::Vector3i g0 = cell_of(spheres[a].center - Vec3d::Constant(ra)), g1 = cell_of(spheres[a].center + Vec3d::Constant(ra));
+            for (int z = g0[2]; z <= g1[2]; ++z)
+                for (int y = g0[1]; y <= g1[1]; ++y)
+                    for (int x = g0[0]; x <= g1[0]; ++x) grid[key({x, y, z})].push_back(a);
+        }
+        auto add = [&](std::uint32_t a, std::uint32_t b, const Vec3d& cb, double rb) {
+            const double lens = sphere_intersection_volume(spheres[a].radius, rb, (spheres[a].center - cb).norm());
+            if (lens > 0) c.pairs.push_back({a, b, lens});
+        };
+        for (std::size_t b = 0; b < spheres.size(); ++b) {
+            const Vec3d cb = to_b(spheres[b].center);
+            const double rb = spheres[b].radius;
+            // Skip B's spheres above A's highest sample (+ 2h: the mesh reaches less than that past its
+            // samples) in every column they span.
+            const Vec3d p = cb - centre;
+            const double reach = rb + 2 * L.h;
+            const int i0 = std::clamp(int(std::floor((p.dot(e1) - reach) / L.h)) + m / 2, 0, m - 1),
+                      i1 = std::clamp(int(std::floor((p.dot(e1) + reach) / L.h)) + m / 2, 0, m - 1),
+                      j0 = std::clamp(int(std::floor((p.dot(e2) - reach) / L.h)) + m / 2, 0, m - 1),
+                      j1 = std::clamp(int(std::floor((p.dot(e2) + reach) / L.h)) + m / 2, 0, m - 1);
+            if (p.dot(u) - rb > a_high) continue;
+            if ((i1 - i0 + 1) * (j1 - j0 + 1) <= 64) {  // a large sphere is not worth the scan
+                float high = -std::numeric_limits<float>::infinity();
+                for (int j = j0; j <= j1; ++j)
+                    for (int i = i0; i <= i1; ++i) high = std::max(high, a_top[std::size_t(j) * std::size_t(m) + std::size_t(i)]);
+                if (p.dot(u) - rb > double(high) + 2 * L.h) continue;
+            }
+            if (rb > 4 * L.h) {
+                for (std::uint32_t a : a_slab) add(a, std::uint32_t(b), cb, rb);
+            } else {
+                for (std::uint32_t a : a_large) add(a, std::uint32_t(b), cb, rb);
+                // A pair meets in a cell both boxes touch: count it only in the first such cell.
+                const Eigen::Vector3i g0 = cell_of(cb - Vec3d::Constant(rb)), g1 = cell_of(cb + Vec3d::Constant(rb));
+                for (int z = g0[2]; z <= g1[2]; ++z)
+                    for (int y = g0[1]; y <= g1[1]; ++y)
+                        for (int x = g0[0]; x <= g1[0]; ++x) {
+                            const auto it = grid.find(key({x, y, z}));
+                            if (it == grid.end()) continue;
+                            for (std::uint32_t a : it->second) {
+                                const double ra = spheres[a].radius;
+                                const Eigen::Vector3i lo_a = cell_of(spheres[a].center - Vec3d::Constant(ra)).cwiseMax(g0);
+                                if (lo_a != Eigen::Vector3i(x, y, z)) continue;
+                                add(a, std::uint32_t(b), cb, rb);
+                            }
+                        }
+            }
+        }
+    }, 1);
+    const double per_sample = L.h * L.h * L.h;
+    auto mean_error = [&](double alpha) {
+        const std::vector<double> w = blend(alpha);
+        double sum = 0;
+        int used = 0;
+        for (const Contact& c : contacts) {
+            if (c.samples < 32) continue;
+            double est = 0;
+            for (const Pair& q : c.pairs) est += q.lens * w[q.a] * w[q.b];
+            sum += est / (double(c.samples) * per_sample) - 1, ++used;
+        }
+        return used ? sum / used : std::numeric_limits<double>::quiet_NaN();
+    };
+    if (std::isnan(mean_error(0))) return fallback_strength;  // no contact holds enough samples (a very coarse lattice)
+    double a = 0, b = 1;
+    if (mean_error(a) >= 0) return 0;
+    if (mean_error(b) <= 0) return 1;
+    for (int it = 0; it < 20; ++it) {
+        const double mid = (a + b) / 2;
+        (mean_error(mid) < 0 ? a : b) = mid;
+    }
+    return (a + b) / 2;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -105,8 +345,11 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         throw Error(mesh.source, "PackingOptions", "grid_resolution must be 0 (auto) or in [4, 1024]");
     if (options.depth_calibration_iterations < 0 || options.depth_calibration_iterations > 100)
         throw Error(mesh.source, "PackingOptions", "depth_calibration_iterations must lie in [0, 100]");
-    if (!(options.depth_calibration_strength >= 0 && options.depth_calibration_strength <= 1))
-        throw Error(mesh.source, "PackingOptions", "depth_calibration_strength must lie in [0, 1]");
+    if (!(options.depth_calibration_strength == PackingOptions::derived_strength ||
+          (options.depth_calibration_strength >= 0 && options.depth_calibration_strength <= 1)))
+        throw Error(mesh.source, "PackingOptions", "depth_calibration_strength must lie in [0, 1] or be derived_strength (-1)");
+    if (!(options.depth_calibration_contact_depth > 0 && options.depth_calibration_contact_depth <= 0.5))
+        throw Error(mesh.source, "PackingOptions", "depth_calibration_contact_depth must lie in (0, 0.5]");
 
     SpherePacking out;
     out.mesh_volume = check_closed_mesh(mesh);
@@ -380,7 +623,7 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
 
     // Depth profile: make the weighted sphere volume match the mesh's volume in each layer of depth (distance
     // to the surface), so that a shallow contact, which only reaches the outer layers, sees the right density.
-    if (options.depth_calibration && options.depth_calibration_strength > 0 && options.depth_calibration_iterations > 0 &&
+    if (options.depth_calibration && options.depth_calibration_strength != 0 && options.depth_calibration_iterations > 0 &&
         !out.spheres.empty()) {
         // 16 layers two samples thick, then one for everything deeper; one sample per layer was noisier
         // (docs/ist.md).
@@ -413,11 +656,7 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
         }
         layer_of = {};
         // Spheres holding few samples: model the surface near them as a plane at the distance of their centre.
-        constexpr double pi = 3.14159265358979323846;
-        auto below = [](double r, double t) {  // volume of a ball of radius r below height t (from its centre)
-            t = std::clamp(t, -r, r);
-            return pi * (r + t) * (r + t) * (2 * r - t) / 3;
-        };
+        const auto below = ball_below;
         parallel_for_index(n, [&](std::size_t i) {
             const InnerSphere& s = out.spheres[i];
             if (inside_count[i] >= 8) {
@@ -443,9 +682,20 @@ SpherePacking pack_spheres(const TriangleMesh<double>& mesh, const PackingOption
             }
         }
         // Partial strength: the full fit overshoots (docs/ist.md), w = w_cell^(1−α)·w_fit^α.
-        const double alpha = options.depth_calibration_strength;
-        for (std::size_t i = 0; i < n; ++i)
-            out.cell_weights[i] = std::max(1.0, std::pow(out.cell_weights[i], 1 - alpha) * std::pow(std::max(1.0, w[i]), alpha));
+        std::vector<double> log0(n), log1(n);
+        for (std::size_t i = 0; i < n; ++i) log0[i] = std::log(out.cell_weights[i]), log1[i] = std::log(std::max(1.0, w[i]));
+        auto blend = [&](double a) {
+            std::vector<double> b(n);
+            for (std::size_t i = 0; i < n; ++i) b[i] = std::max(1.0, std::exp((1 - a) * log0[i] + a * log1[i]));
+            return b;
+        };
+        double alpha = options.depth_calibration_strength;
+        if (alpha < 0) {
+            const SampleLattice lattice{origin, h, dims, &cand_of, &cand_grid};
+            alpha = self_contact_strength(out.spheres, lattice, (lo + hi) / 2, (hi - lo).norm() * options.depth_calibration_contact_depth, blend);
+        }
+        out.calibration_strength = alpha;
+        out.cell_weights = blend(alpha);
     }
     out.stats.seconds_placing = seconds_since(t1);
     return out;

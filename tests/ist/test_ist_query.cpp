@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 #include <set>
 #include <thread>
@@ -212,6 +213,57 @@ TEST_CASE("time-critical mode: the interval holds the exact volume and tightens 
         CHECK(d.lower_bound <= std::max(0.0, test::brute_distance(t, pa, t, pb)) + 1e-12);
     }
     CHECK(tested >= 2);
+}
+
+TEST_CASE("time-critical ist_query: one pass over one budget; volume as penetration_volume's, distance bounded", "[ist][query]") {
+    const InnerSphereTree& t = test::small_bunny_tree();
+    std::mt19937_64 rng(25);
+    int apart = 0, overlapping = 0, apart_complete = 0, apart_cut = 0;
+    for (int i = 0; i < scaled(40, 10); ++i) {
+        const auto pa = random_pose(rng, 0.2), pb = random_pose(rng, 1.4);
+        const auto full = ist_query(t, pa, t, pb);
+        const double bf = test::brute_distance(t, pa, t, pb);
+        for (std::uint64_t budget : {5, 40, 400, 100000000}) {
+            IstRequest req;
+            req.max_node_tests = budget;
+            const auto q = ist_query(t, pa, t, pb, req);
+            const auto v = penetration_volume(t, pa, t, pb, req);
+            INFO("pose " << i << " budget " << budget);
+            REQUIRE(q.status == QueryStatus::ok);
+            // The volume part is the budgeted volume traversal, bit for bit.
+            CHECK(q.volume.volume == v.volume);
+            CHECK(q.volume.volume_lower == v.volume_lower);
+            CHECK(q.volume.volume_upper == v.volume_upper);
+            CHECK(q.volume.calibrated == v.calibrated);
+            CHECK(q.volume.complete == v.complete);
+            // One budget for both parts: at most one node's children past it.
+            CHECK(q.stats.node_tests <= budget + 16);
+            if (q.overlapping) {
+                CHECK(q.distance.distance == 0);
+                CHECK(full.overlapping);
+                continue;
+            }
+            CHECK(q.distance.lower_bound <= std::max(0.0, bf) + 1e-12);
+            if (q.distance.complete) {
+                CHECK(q.volume.complete);
+                CHECK(q.distance.distance == sphere_distance(t, pa, t, pb).distance);
+                CHECK(q.distance.lower_bound == q.distance.distance);
+            } else if (std::isfinite(q.distance.distance)) {
+                CHECK(q.distance.distance >= std::max(0.0, bf) - 1e-12);  // a pair found: an upper bound
+            }
+            if (budget == 100000000) {
+                CHECK(q.volume.complete);
+                CHECK(q.distance.complete);
+                CHECK(q.overlapping == full.overlapping);
+                CHECK(q.distance.distance == full.distance.distance);
+            }
+            if (bf > 0 && budget == 400) (q.distance.complete ? apart_complete : apart_cut) += 1;
+        }
+        (bf > 0 ? apart : overlapping) += 1;
+    }
+    CHECK(apart >= 2);
+    CHECK(overlapping >= 2);
+    CHECK(apart_complete + apart_cut == apart);
 }
 
 TEST_CASE("invalid poses are refused", "[ist][query]") {

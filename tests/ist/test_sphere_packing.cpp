@@ -288,13 +288,26 @@ TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and th
     REQUIRE(full.cell_weights.size() == plain.cell_weights.size());
     CHECK(PackingOptions{}.depth_calibration);  // on by default
     CHECK(zero.cell_weights == plain.cell_weights);
-    // The default strength is the geometric blend of the plain and the fully fitted weights: between them.
+    // The default strength is derived (self-contacts), recorded, strictly inside (0, 1) on the bunny, and the
+    // weights are the geometric blend of the plain and the fully fitted ones at it: between them.
+    const double alpha = fitted.calibration_strength;
+    CHECK(alpha > 0);
+    CHECK(alpha < 1);
+    CHECK(full.calibration_strength == 1);
+    CHECK(plain.calibration_strength == 0);
     std::size_t between = 0;
     for (std::size_t i = 0; i < fitted.spheres.size(); ++i) {
         const double lo = std::min(plain.cell_weights[i], full.cell_weights[i]), hi = std::max(plain.cell_weights[i], full.cell_weights[i]);
         between += fitted.cell_weights[i] >= lo * (1 - 1e-12) && fitted.cell_weights[i] <= hi * (1 + 1e-12);
-        CHECK(fitted.cell_weights[i] == Approx(std::pow(plain.cell_weights[i], 1 - o.depth_calibration_strength) *
-                                               std::pow(full.cell_weights[i], o.depth_calibration_strength)).epsilon(1e-12));
+        CHECK(fitted.cell_weights[i] == Approx(std::pow(plain.cell_weights[i], 1 - alpha) * std::pow(full.cell_weights[i], alpha)).epsilon(1e-12));
+    }
+    {   // A fixed strength equal to the derived one gives the same weights; the derivation is deterministic.
+        PackingOptions fixed = o;
+        fixed.depth_calibration_strength = alpha;
+        const SpherePacking same = pack_spheres(bunny, fixed);
+        CHECK(same.calibration_strength == alpha);
+        CHECK(pack_spheres(bunny, o).cell_weights == fitted.cell_weights);
+        for (std::size_t i = 0; i < fitted.spheres.size(); ++i) CHECK(same.cell_weights[i] == Approx(fitted.cell_weights[i]).epsilon(1e-12));
     }
     CHECK(between == fitted.spheres.size());
     double total = 0;
@@ -324,7 +337,12 @@ TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and th
     CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
     o.depth_calibration_strength = -0.1;
     CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
-    o.depth_calibration_strength = 0.6;
+    o.depth_calibration_strength = PackingOptions::derived_strength;
+    o.depth_calibration_contact_depth = 0;
+    CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+    o.depth_calibration_contact_depth = 0.6;
+    CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+    o.depth_calibration_contact_depth = 0.05;
     o.depth_calibration_iterations = -1;
     CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
     o.depth_calibration_iterations = 101;

@@ -25,7 +25,9 @@
 /// volume traversal, in the same order, so volume, calibrated volume and pairs are bit for bit those of
 /// penetration_volume()) and, while no inner spheres overlap yet, also the pairs whose distance bound beats
 /// the best inner-sphere distance so far (sphere_distance()'s pruning, nearest first); the first overlapping
-/// inner-sphere pair ends the distance search. With a node budget it falls back to the two traversals.
+/// inner-sphere pair ends the distance search. With a node budget it is one pass too, over one budget: the
+/// time-critical volume traversal keeps the pairs apart while no inner spheres overlap, and the distance
+/// search goes on from them with what is left of the budget.
 ///
 /// All queries are const, thread-safe and noexcept apart from std::bad_alloc when collecting pairs.
 
@@ -107,8 +109,10 @@ struct IstDistanceResult {
 
 /// Combined query: the volume when the objects' inner spheres overlap, the distance when they are apart.
 /// Without a node budget: one descent (see the file comment), and `volume` and `distance` (when apart) both
-/// carry its counters in `stats`. With a budget: penetration_volume(), then sphere_distance() when no inner
-/// spheres overlap.
+/// carry its counters in `stats`. With a budget: one pass over that budget (the volume part is
+/// penetration_volume()'s with the same budget; the distance, when no inner spheres overlap, is searched
+/// with what is left: `distance.lower_bound` holds whatever the budget allowed, `distance.complete` says
+/// whether it is exact).
 struct IstQueryResult {
     QueryStatus status = QueryStatus::ok;
     bool overlapping = false;        ///< some inner spheres overlap (volume > 0)
