@@ -5,14 +5,16 @@
 // With csv_path, also writes one row per (family, class, method): median and p99 ns, mean iterations, maximum
 // error and the fraction of configurations in error (booleans: wrong answers; distances and depths: relative
 // error > 1e-9), for plot_convex.py.
-// Prints per (shape family, distance class): median / p99 time per call, mean iterations, and the error
-// against a long-double reference (cdkit's own GJK/EPA instantiated in long double with tight tolerances),
-// then a checked counter: seeded cases whose double answer disagrees with the long-double reference.
+// Prints per (shape family, distance class): median / p99 thread-CPU time per call (batch_timer.hpp), mean
+// iterations, the error against a long-double reference (cdkit's own GJK/EPA instantiated in long double with
+// tight tolerances) and the share of booleans decided by the bounding-ball pre-test, then a checked counter:
+// seeded cases whose double answer disagrees with the long-double reference.
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/epa.hpp>
 
 #include "../../tests/narrowphase/convex_reference.hpp"  // certified distance bounds, shared with the tests
+#include "batch_timer.hpp"
 #include "ccd_adapter.hpp"
 #include "peer_fcl.hpp"
 
@@ -68,19 +70,7 @@ struct Stats {
     }
 };
 
-/// Mean time of `reps` calls after one untimed call (without it the method timed first for a configuration
-/// paid that configuration's cache misses: hull1000's vertices and adjacency, ~40 KB). The empty asm with a
-/// memory clobber before each call keeps the compiler from hoisting an inlined, side-effect-free query out of
-/// the loop (libccd's calls into the shared library could never be).
-template <class F> double time_ns(F&& f, int reps) {
-    f();
-    auto t0 = Clock::now();
-    for (int r = 0; r < reps; ++r) {
-        asm volatile("" ::: "memory");
-        f();
-    }
-    return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / reps;
-}
+using bench::time_ns;  // thread CPU time per call over a ≥ 20 µs batch (batch_timer.hpp)
 
 /// The long-double reference `ref` clamped into its certified interval (test::certified_interval).
 template <class A, class B, class R>
@@ -97,6 +87,7 @@ struct Row {
     std::string family, cls;
     Stats cd_bool, cd_dist, cd_epa, ccd_gjk, ccd_mpr, ccd_pen;
     Stats fcl_indep_bool, fcl_indep_dist, fcl_indep_pen, fcl_ccd_bool, fcl_ccd_dist, fcl_ccd_pen;
+    long cd_bool_balls = 0;  ///< configurations the boolean decided by the bounding-ball pre-test (0 iterations)
 };
 
 /// One family: `make(rng)` returns {shape<double>, shape<long double>} pairs; scale = size of the shapes.
@@ -105,10 +96,15 @@ template <class Make> void run_family(const char* name, Make make, double scale,
     const double targets[3][4] = {{5, 2.5, 1, 0.5}, {1e-1, 1e-2, 1e-3, 1e-4}, {-1e-1, -1e-2, -1e-3, -1e-4}};
     const char* cls[3] = {"distant", "close", "overlapping"};
     for (int c = 0; c < 3; ++c) {
-        Row row{name, cls[c], {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+        Row row{name, cls[c], {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, 0};
         for (int k = 0; k < configs; ++k) {
-            auto [a, al] = make(rng);
-            auto [b, bl] = make(rng);
+            // Pairs unpacked by reference, not structured bindings: clang 14 cannot capture those in lambdas.
+            auto shapes_a = make(rng);
+            auto shapes_b = make(rng);
+            auto& a = shapes_a.first;
+            auto& al = shapes_a.second;
+            auto& b = shapes_b.first;
+            auto& bl = shapes_b.second;
             Transform<double> pa(random_rotation(rng), Vec3<double>::Zero());
             std::normal_distribution<double> g;
             Transform<double> pb(random_rotation(rng), Vec3<double>(g(rng), g(rng), g(rng)).normalized() * 4 * scale);
@@ -137,6 +133,7 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                 // loop cost more than the one-iteration query itself. An untimed call gives the result.
                 const double ns_ = time_ns([&] { const auto r = gjk_intersect(a, pa, b, pb); g_sink = g_sink + r.distance; }, reps);
                 rb = gjk_intersect(a, pa, b, pb);
+                row.cd_bool_balls += rb.iterations == 0;
                 row.cd_bool.add(ns_,
                             rb.iterations, (rb.colliding() != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
             }
@@ -249,9 +246,10 @@ int main(int argc, char** argv) {
     run_family("hull100", hull(100), 0.1, configs, rows, rng);
     run_family("hull1000", hull(1000), 0.1, configs, rows, rng);
 
-    std::printf("P3 convex pairs: %d configurations per cell, %d calls per timed batch; times in ns per call\n",
-                configs, reps);
-    std::printf("%-10s %-11s | %-26s | %-26s | %-26s | %-17s | %-17s | %-17s | bool ratio ccdGJK/cd, ccdMPR/cd; pen ratio\n",
+    std::printf("P3 convex pairs: %d configurations per cell, each timed as a batch of >= %d calls and >= 20 us "
+                "of thread CPU time (clock cost %.0f ns subtracted); times in ns per call\n",
+                configs, reps, bench::thread_clock_overhead_ns());
+    std::printf("%-10s %-11s | %-26s | %-26s | %-26s | %-17s | %-17s | %-17s | bool ratio ccdGJK/cd, ccdMPR/cd; pen ratio | balls\n",
                 "family", "class", "cd bool med/p99 it err", "cd dist med/p99 it relerr", "cd EPA med/p99 it relerr",
                 "ccd GJK med err", "ccd MPR med err", "ccd pen med relerr");
     for (auto& r : rows) {
@@ -264,13 +262,15 @@ int main(int argc, char** argv) {
             return std::string(buf);
         };
         double cb = r.cd_bool.pct(0.5);
-        std::printf("%-10s %-11s | %s | %s | %s | %17s | %17s | %17s | %5.2f %5.2f %5.2f\n", r.family.c_str(),
+        std::printf("%-10s %-11s | %s | %s | %s | %17s | %17s | %17s | %5.2f %5.2f %5.2f | %3.0f%%\n", r.family.c_str(),
                     r.cls.c_str(), cell(r.cd_bool, true).c_str(), cell(r.cd_dist, true).c_str(),
                     cell(r.cd_epa, true).c_str(), cell(r.ccd_gjk, false).c_str(), cell(r.ccd_mpr, false).c_str(),
                     cell(r.ccd_pen, false).c_str(), r.ccd_gjk.pct(0.5) / cb, r.ccd_mpr.pct(0.5) / cb,
-                    r.cd_epa.n ? r.ccd_pen.pct(0.5) / r.cd_epa.pct(0.5) : 0.0);
+                    r.cd_epa.n ? r.ccd_pen.pct(0.5) / r.cd_epa.pct(0.5) : 0.0,
+                    100.0 * double(r.cd_bool_balls) / double(std::max(r.cd_bool.n, 1L)));
     }
-    std::printf("(err for booleans: max over cells of a wrong answer where |reference| > 1e-6·scale, 1 = some wrong)\n");
+    std::printf("(err for booleans: max over cells of a wrong answer where |reference| > 1e-6·scale, 1 = some wrong; "
+                "balls: share of the cell's configurations the cdkit boolean decided by its bounding-ball pre-test)\n");
     // FCL 0.7 on the same configurations (see peer_fcl.hpp for the code each column runs); ratios are FCL's
     // median over cdkit's median of the same query (boolean: cd GJK boolean; distance: cd GJK distance;
     // penetration: cd EPA).
@@ -333,13 +333,17 @@ int main(int argc, char** argv) {
     // ≥ 1e-6 of the scale; booleans compared where |distance| > 1e-9·scale).
     {
         std::mt19937_64 r2(7);
-        auto [h1, h1l] = hull(200)(r2);
-        auto [h2, h2l] = hull(50)(r2);
+        auto hulls1 = hull(200)(r2);
+        auto hulls2 = hull(50)(r2);
+        auto& h1 = hulls1.first;
+        auto& h1l = hulls1.second;
+        auto& h2 = hulls2.first;
+        auto& h2l = hulls2.second;
         Ellipsoid<double> e(Vec3<double>(0.1, 0.05, 0.08));
         Ellipsoid<LD> el(Vec3<LD>(0.1L, 0.05L, 0.08L));
         Cylinder<double> cy(0.05, 0.1);
         Cylinder<LD> cyl_l(0.05L, 0.1L);
-        long fail_bool = 0, fail_dist = 0, fail_dist_plain = 0, hits = 0, dist_checked = 0;
+        long fail_bool = 0, fail_dist = 0, fail_dist_plain = 0, hits = 0, dist_checked = 0, by_balls = 0;
         GjkSettings<LD> tight;
         tight.rel_tolerance = 1e-16L;
         std::uniform_real_distribution<double> t(-0.3, 0.3);
@@ -351,6 +355,7 @@ int main(int argc, char** argv) {
                 auto ref = gjk_distance(al, pa.cast<LD>(), bl, pb.cast<LD>(), nullptr, tight);
                 auto d = gjk_distance(a, pa, b, pb);
                 auto bo = gjk_intersect(a, pa, b, pb);
+                by_balls += bo.iterations == 0;  // decided by the bounding-ball pre-test
                 bool ref_hit = ref.colliding();
                 hits += ref_hit;
                 if (!ref_hit && ref.distance > 1e-9L * 0.1L) {
@@ -380,8 +385,8 @@ int main(int argc, char** argv) {
         double secs = std::chrono::duration<double>(Clock::now() - t0).count();
         std::printf("checked counter: %ld seeded cases (%ld colliding), boolean failures %ld, distance checks %ld with "
                     "rel. error > 1e-9: %ld against the certified-clamped reference (%ld against the plain "
-                    "long-double one)  (%.1f s)\n",
-                    checks, hits, fail_bool, dist_checked, fail_dist, fail_dist_plain, secs);
+                    "long-double one); booleans decided by the bounding balls: %ld  (%.1f s)\n",
+                    checks, hits, fail_bool, dist_checked, fail_dist, fail_dist_plain, by_balls, secs);
         if (fail_bool) return 1;  // distance outliers are reported, booleans must be exact
     }
     return 0;

@@ -1,4 +1,5 @@
 #include "peer_fcl.hpp"
+#include "batch_timer.hpp"
 
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
@@ -20,16 +21,7 @@
 namespace cdkit::bench {
 
 namespace {
-using Clock = std::chrono::steady_clock;
 volatile double g_fcl_sink = 0;
-
-/// As bench_convex.cpp's time_ns: mean of `reps` calls after one untimed call.
-template <class F> double time_ns(F&& f, int reps) {
-    f();
-    const auto t0 = Clock::now();
-    for (int r = 0; r < reps; ++r) f();
-    return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / reps;
-}
 
 fcl::Transform3d to_fcl(const Transform<double>& p) {
     fcl::Transform3d t = fcl::Transform3d::Identity();

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -85,6 +86,7 @@ public:
             offsets_.push_back(std::uint32_t(neighbours_.size()));
         }
         build_topology(h.faces);
+        build_balls();
         // Hill-climbing seeds: the extreme vertices along ±x, ±y, ±z.
         for (int axis = 0; axis < 3; ++axis)
             for (int sgn = -1; sgn <= 1; sgn += 2) {
@@ -126,6 +128,10 @@ public:
     }
     /// The vertex average (an interior point).
     [[nodiscard]] Vec3<S> center() const noexcept { return center_; }
+    /// Balls about center() (HasBoundingBalls), precomputed: through the farthest vertex, and touching the
+    /// nearest hull triangle's plane (both rounded outwards).
+    [[nodiscard]] S bounding_radius() const noexcept { return bounding_radius_; }
+    [[nodiscard]] S inner_radius() const noexcept { return inner_radius_; }
     [[nodiscard]] const std::vector<Vec3<S>>& vertices() const noexcept { return vertices_; }
     /// Outward-oriented (counter-clockwise seen from outside) hull triangles indexing vertices().
     [[nodiscard]] const std::vector<std::array<std::uint32_t, 3>>& triangles() const noexcept {
@@ -241,6 +247,31 @@ private:
         topology_ok_ = ok;
     }
 
+    /// The two balls of bounding_radius() / inner_radius(). The inner radius is the smallest distance from the
+    /// centre to a hull triangle's plane, computed in long double and lowered by 64ε·(bounding radius + |centre|)
+    /// for the rounding of the planes (a ball inside every triangle's half-space is inside the hull).
+    void build_balls() {
+        using W = long double;
+        const Vec3<W> c = center_.template cast<W>();
+        W r2 = 0;
+        for (const auto& v : vertices_) r2 = std::max(r2, (v.template cast<W>() - c).squaredNorm());
+        bounding_radius_ = detail::round_up(S(std::sqrt(r2)));
+        W inner = std::numeric_limits<W>::infinity();
+        for (const auto& t : triangles_) {
+            const Vec3<W> a = vertices_[t[0]].template cast<W>(), b = vertices_[t[1]].template cast<W>(),
+                          cc = vertices_[t[2]].template cast<W>();
+            const Vec3<W> n = (b - a).cross(cc - a);
+            const W len = n.norm();
+            if (!(len > W(0))) continue;  // a sliver: its neighbours bound the same region
+            inner = std::min(inner, n.dot(a - c) / len);
+        }
+        const W slack = W(64) * W(std::numeric_limits<S>::epsilon()) *
+                        (W(bounding_radius_) + c.cwiseAbs().sum());
+        inner -= slack;
+        const bool usable = inner > W(0) && inner < std::numeric_limits<W>::infinity();
+        inner_radius_ = usable ? detail::round_down(S(inner)) : S(0);
+    }
+
     /// Climbs to the best neighbour of the current vertex until none is better; each step strictly
     /// increases d·x, so it stops after at most |V| steps.
     [[nodiscard]] std::uint32_t climb(const Vec3<S>& d, std::uint32_t best, S best_dot) const noexcept {
@@ -276,6 +307,7 @@ private:
     std::vector<std::uint32_t> vertex_begin_, vertex_edge_;
     std::vector<Vec3<S>> vertex_edge_dir_;
     S radius_ = S(0);
+    S bounding_radius_ = S(0), inner_radius_ = S(0);
     bool topology_ok_ = false;
 };
 

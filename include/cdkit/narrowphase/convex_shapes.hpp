@@ -8,6 +8,7 @@
 #include <cdkit/core/math.hpp>
 #include <cdkit/narrowphase/support.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -61,6 +62,9 @@ template <class S = double> struct Sphere {
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
     [[nodiscard]] S margin() const noexcept { return radius; }
     [[nodiscard]] Vec3<S> core_support(const Vec3<S>&) const noexcept { return Vec3<S>::Zero(); }
+    /// Balls about the centre (HasBoundingBalls): the sphere itself.
+    [[nodiscard]] S bounding_radius() const noexcept { return radius; }
+    [[nodiscard]] S inner_radius() const noexcept { return radius; }
 };
 
 /// An axis-aligned box [-h, h] (h = half extents) in its local frame.
@@ -76,6 +80,11 @@ template <class S = double> struct Box {
                 detail::signed_extent(half.z(), d.z())};
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+    /// Balls about the centre (HasBoundingBalls): through the corners, and touching the nearest faces.
+    [[nodiscard]] S bounding_radius() const noexcept {
+        return detail::round_up(std::sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]));
+    }
+    [[nodiscard]] S inner_radius() const noexcept { return std::min({half[0], half[1], half[2]}); }
 };
 
 /// A capsule: the segment z ∈ [-half_length, half_length] grown by `radius`.
@@ -94,6 +103,9 @@ template <class S = double> struct Capsule {
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
     [[nodiscard]] S margin() const noexcept { return radius; }
+    /// Balls about the centre (HasBoundingBalls): through the tips, and the ball of the centre's cross-section.
+    [[nodiscard]] S bounding_radius() const noexcept { return detail::round_up(S(half_length + radius)); }
+    [[nodiscard]] S inner_radius() const noexcept { return radius; }
 };
 
 /// A solid cylinder of radius `radius`, z ∈ [-half_height, half_height].
@@ -108,6 +120,11 @@ template <class S = double> struct Cylinder {
         return detail::disc_support(d, radius, detail::signed_extent(half_height, d.z()));
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+    /// Balls about the centre (HasBoundingBalls): through the rims, and touching the side or the caps.
+    [[nodiscard]] S bounding_radius() const noexcept {
+        return detail::round_up(std::sqrt(radius * radius + half_height * half_height));
+    }
+    [[nodiscard]] S inner_radius() const noexcept { return std::min(radius, half_height); }
 };
 
 /// A solid cone: base disc of radius `radius` at z = -half_height, apex at z = +half_height.
@@ -131,6 +148,19 @@ template <class S = double> struct Cone {
     [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), center_z()}; }
     /// Its height (it lies on the axis: GJK places it with one column of the rotation).
     [[nodiscard]] S center_z() const noexcept { return -half_height / S(2); }
+    /// Balls about the centroid (HasBoundingBalls): through the apex (1.5 h away) or the rim, whichever is
+    /// farther; inside, touching the base (h/2 away) or within the side (1.5 r h / √(4h² + r²) is the distance
+    /// from the centroid to the generator line through (r, −h) and (0, h)).
+    [[nodiscard]] S bounding_radius() const noexcept {
+        const S h = half_height;
+        return detail::round_up(std::max(S(1.5) * h, S(std::sqrt(radius * radius + h * h / S(4)))));
+    }
+    [[nodiscard]] S inner_radius() const noexcept {
+        const S h = half_height, r = radius;
+        // √(4h² + r²) ≤ 2h + r: a division instead of a sqrt and a division, at most 30 % below the exact ball.
+        const S side = S(1.5) * r * h / (S(2) * h + r);
+        return detail::round_down(std::min(h / S(2), side == side ? side : S(0)));
+    }
 };
 
 /// A solid axis-aligned ellipsoid with semi-axes `radii`.
@@ -151,6 +181,9 @@ template <class S = double> struct Ellipsoid {
         return {radii.x() * x * inv, radii.y() * y * inv, radii.z() * z * inv};
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+    /// Balls about the centre (HasBoundingBalls): of the largest and of the smallest semi-axis.
+    [[nodiscard]] S bounding_radius() const noexcept { return std::max({radii[0], radii[1], radii[2]}); }
+    [[nodiscard]] S inner_radius() const noexcept { return std::min({radii[0], radii[1], radii[2]}); }
 };
 
 /// A triangle (flat convex set) with vertices a, b, c in the local frame.
@@ -168,6 +201,14 @@ template <class S = double> struct ConvexTriangle {
         return db >= dc ? b : c;
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return (a + b + c) / S(3); }
+    /// Balls about center() (HasBoundingBalls): through the farthest vertex; flat, so no inner ball (the
+    /// centre itself is a point of the triangle, up to its rounding, which the caller's slack covers).
+    [[nodiscard]] S bounding_radius() const noexcept {
+        const Vec3<S> m = center();
+        const S r2 = std::max({(a - m).squaredNorm(), (b - m).squaredNorm(), (c - m).squaredNorm()});
+        return detail::round_up(std::sqrt(r2));
+    }
+    [[nodiscard]] S inner_radius() const noexcept { return S(0); }
 };
 
 }  // namespace cdkit

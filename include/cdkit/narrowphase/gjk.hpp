@@ -26,7 +26,10 @@
 /// first support pair in the world frame along the centre line (a distant pair is decided without forming the
 /// relative pose), squared plane tests, and Nesterov momentum on the search direction in the first few
 /// iterations (Montaut et al. 2022, above), which the boolean certificates make safe: a plane is proven by
-/// the direction actually queried, overlap by four support points around the origin.
+/// the direction actually queried, overlap by four support points around the origin. Before any support
+/// query it compares the centre distance with the shapes' bounding balls (`HasBoundingBalls`; disjoint outer
+/// balls prove separation, overlapping inner balls prove overlap, beyond a rounding slack), and its
+/// tetrahedron step uses that the newest point is vertex 3.
 ///
 /// Accuracy on curved shapes: near contact the support points cluster and the triangle step meets slivers
 /// whose rounded normal can put v below the simplex (|v| then under-estimates the distance and the gap test
@@ -75,6 +78,14 @@ template <class S = double> struct GjkSettings {
     /// curved pairs by up to 3.7× in the P3 benchmark; past a few iterations it mostly cost overlapping
     /// cylinders and cones extra ones, hence the cap. Only the work depends on it, never the answer.
     int momentum_iterations = 5;
+    /// Cold boolean queries on shapes with bounding balls (`HasBoundingBalls`: every primitive and
+    /// `ConvexPolyhedron`): before any support query, answer "separated" when the balls about the two centres
+    /// that contain the shapes are disjoint, and "intersecting" when the balls that the shapes contain
+    /// overlap, each beyond a rounding slack (256ε times the magnitudes involved). Such answers report
+    /// `iterations == 0`; a separated one has the ball gap as its distance (a lower bound), the centre line
+    /// as its normal and the balls' points on it as `point_a` / `point_b` (the planes through them orthogonal
+    /// to the normal separate the shapes; they are points of the balls, not of the shapes).
+    bool bounding_ball_test = true;
 };
 
 /// Caller-owned warm start (van den Bergen 1999 §5, "frame coherence"): the last final simplex, as the
@@ -122,7 +133,8 @@ template <class S> struct GjkResult {
     S distance = S(0);
     /// Closest points on A and on B in the world frame (valid when separated or touching). After
     /// gjk_intersect's early exit: A's and B's extreme points along `normal` (the planes through them
-    /// orthogonal to `normal` separate the shapes), not the closest points.
+    /// orthogonal to `normal` separate the shapes), not the closest points; after its bounding-ball exit
+    /// (`iterations == 0`, see GjkSettings::bounding_ball_test) the balls' extreme points along `normal`.
     Vec3<S> point_a = Vec3<S>::Zero(), point_b = Vec3<S>::Zero();
     /// Unit direction from A towards B in the world frame (valid when separated; after gjk_intersect's early
     /// exit it is a separating direction, not necessarily the closest-point direction).
@@ -181,7 +193,8 @@ public:
     }
 
     /// Voronoi-region walk over triangle i0, i1, i2 (Ericson, "Real-Time Collision Detection", 2005,
-    /// §5.1.5).
+    /// §5.1.5). On slivers the weights are as ill-conditioned as Ericson's products at a make them: callers
+    /// that turn them into witness points fix them once, at the end (`sliver_weights`).
     static void triangle(const GjkSimplex<S>& s, int i0, int i1, int i2, Sel& r) noexcept {
         const Vec3<S>& a = s.v[std::size_t(i0)].w;
         const Vec3<S>& b = s.v[std::size_t(i1)].w;
@@ -291,6 +304,95 @@ public:
             const S d = t.v.squaredNorm();
             if (d < best_d || !found) { best_d = d; r = t; found = true; }
         }
+    }
+
+    /// The tetrahedron step of the cold boolean query, where vertex 3 is the newest support point. The same
+    /// decisions as `tetrahedron` from fewer products: the edges from the new vertex give the three faces through
+    /// it and the volume; the volume is the side of the opposite vertex for those three faces (n·(o − p) is 6 V
+    /// for every face, up to orientation), so only the origin's side is evaluated per face. The flatness guard
+    /// and the four origin-side tests are kept: "inside" is the overlap certificate. Only the boolean uses it, so
+    /// the distance query's arithmetic is unchanged.
+    static void tetrahedron_newest_last(const GjkSimplex<S>& s, Sel& r) noexcept {
+        const S eps = std::numeric_limits<S>::epsilon();
+        const Vec3<S>& p0 = s.v[0].w;
+        const Vec3<S>& p1 = s.v[1].w;
+        const Vec3<S>& p2 = s.v[2].w;
+        const Vec3<S>& p3 = s.v[3].w;
+        S scale = S(0);
+        for (int k = 0; k < 3; ++k)
+            scale = std::max({scale, std::abs(p0[k]), std::abs(p1[k]), std::abs(p2[k]), std::abs(p3[k])});
+        const Vec3<S> e0 = minus(p0, p3), e1 = minus(p1, p3), e2 = minus(p2, p3);
+        const Vec3<S> n01 = cross3(e0, e1), n12 = cross3(e1, e2), n20 = cross3(e2, e0);
+        const S vol6 = dot3(e0, n12);  // = e1·n20 = e2·n01: the side of the opposite vertex, faces through p3
+        const bool flat = !(std::abs(vol6) > S(256) * eps * scale * scale * scale);
+        // Origin side of each face through p3: n·(0 − p3); outside when it differs in sign from the volume.
+        const bool out01 = flat || !(-dot3(n01, p3) * vol6 > S(0));  // face 3-0-1, opposite p2
+        const bool out12 = flat || !(-dot3(n12, p3) * vol6 > S(0));  // face 3-1-2, opposite p0
+        const bool out20 = flat || !(-dot3(n20, p3) * vol6 > S(0));  // face 3-2-0, opposite p1
+        // The old face 0-1-2: the origin is on p3's side in exact arithmetic (p3 was found along −v), but the
+        // certificate needs the test.
+        const Vec3<S> m = cross3(minus(p1, p0), minus(p2, p0));
+        const bool out012 = flat || !(-dot3(m, p0) * dot3(m, minus(p3, p0)) > S(0));
+        if (!(out01 || out12 || out20 || out012)) {
+            r.inside = true;
+            r.size = 4;
+            r.v.setZero();
+            return;
+        }
+        S best_d = std::numeric_limits<S>::infinity();
+        bool found = false;
+        Sel t;
+        auto consider = [&](bool out, int i0, int i1, int i2) {
+            if (!out) return;
+            triangle(s, i0, i1, i2, t);
+            const S d = norm2(t.v);
+            if (d < best_d || !found) { best_d = d; r = t; found = true; }
+        };
+        consider(out01, 0, 3, 1);
+        consider(out20, 0, 2, 3);
+        consider(out12, 1, 3, 2);
+        consider(out012, 0, 1, 2);
+    }
+
+    /// Witness-point weights of a final triangle simplex `s` (size 3) whose closest point is `v`, recomputed where
+    /// the triangle is a sliver (smallest angle below 30°). Ericson's weights are ratios of products taken at
+    /// one vertex, whose cancellation on a needle (two support points ~1e-8 apart, the third ~0.2 away) slid
+    /// the witness points along it — by up to 3.7e-3 (the needle ~0.2 long) with the far vertex first, 1e-11
+    /// otherwise — while |v| was right. Here, with the short edge u–w taken from the points (exact for a needle), the
+    /// normal n built at the largest angle (`stable_normal`) and f the vertex opposite the short edge: f's
+    /// weight is the area of (v, u, w) over the triangle's, n·((w − u) × (v − u)) / |n|², and the rest is
+    /// split by where the line from f through v meets u–w. Done once per query, on the final simplex, so the
+    /// iterations (and every distance) keep their bits.
+    static void sliver_weights(GjkSimplex<S>& s, const Vec3<S>& v) noexcept {
+        if (s.size != 3) return;
+        const Vec3<S>& a = s.v[0].w;
+        const Vec3<S>& b = s.v[1].w;
+        const Vec3<S>& c = s.v[2].w;
+        const Vec3<S> ab = b - a, ac = c - a;
+        const S ab2 = ab.squaredNorm(), ac2 = ac.squaredNorm(), bc2 = (c - b).squaredNorm();
+        const Vec3<S> n0 = ab.cross(ac);
+        if (!(n0.squaredNorm() < S(0.25) * std::max({ab2 * ac2, ab2 * bc2, ac2 * bc2}))) return;
+        S edges2 = S(0);
+        const Vec3<S> n = stable_normal(b, c, ab, ac, ab2, ac2, bc2, edges2);
+        const S nn = n.squaredNorm();
+        if (!(nn > S(0))) return;
+        const Vec3<S>* pts[3] = {&a, &b, &c};
+        const int f = bc2 <= ab2 && bc2 <= ac2 ? 0 : (ac2 <= ab2 ? 1 : 2);  // opposite the shortest edge
+        const Vec3<S>& pf = *pts[f];
+        const Vec3<S>& pu = *pts[(f + 1) % 3];
+        const Vec3<S>& pw = *pts[(f + 2) % 3];
+        const Vec3<S> uw = pw - pu;
+        const S lf = n.dot(uw.cross(Vec3<S>(v - pu))) / nn;
+        const S uw2 = uw.squaredNorm();
+        if (!(lf >= S(0) && lf < S(1) && uw2 > S(0))) return;
+        const Vec3<S> q = pf + (v - pf) / (S(1) - lf);  // on the line u–w
+        const S t = std::clamp(S((q - pu).dot(uw) / uw2), S(0), S(1));
+        S lam[3];
+        lam[f] = lf;
+        lam[(f + 1) % 3] = (S(1) - lf) * (S(1) - t);
+        lam[(f + 2) % 3] = (S(1) - lf) * t;
+        if (!(std::isfinite(lam[0]) && std::isfinite(lam[1]) && std::isfinite(lam[2]))) return;
+        for (std::size_t k = 0; k < 3; ++k) s.lambda[k] = lam[k];
     }
 
     /// Closest point of the whole simplex `s` (size 1..4).
@@ -666,6 +768,7 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
         return;
     }
     // Witness points on the cores, then push them out by the margins along the normal.
+    if (st != GjkStatus::intersecting) SimplexSolver<S>::sliver_weights(r.simplex, v);
     Vec3<S> pa = Vec3<S>::Zero(), pb = Vec3<S>::Zero();
     for (int i = 0; i < r.simplex.size; ++i) {
         pa += r.simplex.lambda[std::size_t(i)] * r.simplex.v[std::size_t(i)].a;
@@ -696,6 +799,49 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
     }
     r.status = dist > S(0) ? GjkStatus::separated : GjkStatus::intersecting;
     r.distance = std::max(dist, S(0));
+}
+
+/// The bounding-ball pre-test of the cold boolean query (`GjkSettings::bounding_ball_test`): true, with `r`
+/// filled in, when the balls decide the pair. ca, cb: the computed world centres, delta = ca − cb, dd = |delta|²,
+/// tf = touch_factor·ε. The slack tf·(|t_a|₁ + |t_b|₁ + |ca|₁ + |cb|₁ + R_a + R_b) exceeds the rounding of the
+/// centres (a rotation and a translation, a few ε of those magnitudes), of delta and of the squares many
+/// times over, and is at least the touching tolerance gjk_finish applies (256ε·max(|w|, margin) with
+/// |w| ≤ |ca − cb| + R_a + R_b): an answer given here is the one the full query would give, only sooner.
+template <SupportMapped A, SupportMapped B>
+inline bool bounding_ball_decides(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                  const Transform<typename A::Scalar>& pose_b, const Vec3<typename A::Scalar>& ca,
+                                  const Vec3<typename A::Scalar>& cb, const Vec3<typename A::Scalar>& delta,
+                                  typename A::Scalar dd, typename A::Scalar tf,
+                                  GjkResult<typename A::Scalar>& r) noexcept {
+    using S = typename A::Scalar;
+    const S ra = a.bounding_radius(), rb = b.bounding_radius();
+    auto abs1 = [](const Vec3<S>& x) { return std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]); };
+    const S slack = tf * (abs1(pose_a.t) + abs1(pose_b.t) + abs1(ca) + abs1(cb) + ra + rb);
+    const S outer = ra + rb + slack;
+    if (dd > outer * outer) {
+        const S len = std::sqrt(dd);
+        const S gap = len - outer;
+        if (!(gap > S(0))) return false;
+        const S inv = S(1) / len;
+        const Vec3<S> n(-delta[0] * inv, -delta[1] * inv, -delta[2] * inv);  // A towards B
+        r.iterations = 0;
+        r.simplex.size = 0;
+        r.status = GjkStatus::separated;
+        r.distance = gap;
+        r.normal = n;
+        r.point_a = plus_scaled(ca, ra, n);
+        r.point_b = plus_scaled(cb, -rb, n);
+        return true;
+    }
+    const S inner = a.inner_radius() + b.inner_radius() - slack;
+    if (inner > S(0) && dd < inner * inner) {
+        r.iterations = 0;
+        r.simplex.size = 0;
+        r.status = GjkStatus::intersecting;
+        r.distance = S(0);
+        return true;
+    }
+    return false;
 }
 
 /// Cold boolean query (no cache): the loop of `gjk_loop` reduced to what a yes/no answer needs, with the
@@ -734,8 +880,14 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
     // First iteration in the world frame, along the line between the centres (a separating direction for
     // most distant pairs): one support pair decides them without the relative pose, and the exit's normal
     // and supporting points are already world-frame (no transforms back).
-    Vec3<S> vw_dir = minus(world_center(a, pose_a), world_center(b, pose_b));
+    const Vec3<S> ca = world_center(a, pose_a), cb = world_center(b, pose_b);
+    Vec3<S> vw_dir = minus(ca, cb);
     S vv = norm2(vw_dir);
+    if constexpr (HasBoundingBalls<A> && HasBoundingBalls<B>) {
+        if (settings.bounding_ball_test && vv <= std::numeric_limits<S>::max() &&
+            bounding_ball_decides(a, pose_a, b, pose_b, ca, cb, vw_dir, vv, tf, r))
+            return;
+    }
     if (!(vv > S(0)) || !(vv <= std::numeric_limits<S>::max())) { vw_dir = Vec3<S>::UnitX(); vv = S(1); }
     const Vec3<S> da = rotate_back(pose_a.R, neg(vw_dir));  // A's support direction, A's frame
     const Vec3<S> db = rotate_back(pose_b.R, vw_dir);            // B's, B's frame
@@ -795,6 +947,20 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
     // Not on margin pairs: their cores are points and segments (spheres, capsules), polytopes on which plain
     // GJK ends in two or three iterations; momentum took close capsule pairs from 2.3 to 3.0.
     bool momentum = settings.momentum_iterations > 1 && !(margin > S(0));
+    // Solver::apply moving only the fields this loop and gjk_finish read (a, b, w; not d and b_local, which
+    // only the cache uses and which this loop does not write).
+    auto apply_lean = [&s](const typename Solver::Sel& r_) {
+        for (int k = 0; k < r_.size; ++k) {
+            const std::size_t from = std::size_t(r_.idx[std::size_t(k)]);
+            if (from != std::size_t(k)) {
+                s.v[std::size_t(k)].a = s.v[from].a;
+                s.v[std::size_t(k)].b = s.v[from].b;
+                s.v[std::size_t(k)].w = s.v[from].w;
+            }
+            s.lambda[std::size_t(k)] = r_.lambda[std::size_t(k)];
+        }
+        s.size = r_.size;
+    };
     Vec3<S> d_prev = Vec3<S>(-da), w_last = s.v[0].w;
     while (it < settings.max_iterations) {
         ++it;
@@ -807,7 +973,13 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
             for (int k3 = 0; k3 < 3; ++k3) d[k3] = delta * d_prev[k3] + c * (delta * v[k3] + c * w_last[k3]);
         }
         GjkVertex<S>& x = s.v[std::size_t(s.size)];
-        minkowski_support_into<true>(x, a, b, rel, neg(d), hints);
+        {
+            // As minkowski_support_into without the two fields only the cache reads (d, b_local).
+            const Vec3<S> nd = neg(d);
+            x.a = core_support_hinted(a, nd, hints);
+            x.b = place(rel, Vec3<S>(core_support_hinted(b, rotate_back(rel.R, d), hints + 1)));
+            x.w = minus(x.a, x.b);
+        }
         const S w2 = norm2(x.w);
         if (!(w2 <= std::numeric_limits<S>::max())) { status = GjkStatus::degenerate; break; }  // NaN or inf
         size2 = std::max(size2, w2);
@@ -841,11 +1013,12 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
             if (duplicate) { status = GjkStatus::separated; break; }
         }
         const int old_size = s.size++;
-        Solver::select(s, sel);
+        if (s.size == 4) Solver::tetrahedron_newest_last(s, sel);
+        else Solver::select(s, sel);
         if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
         const S nvv = norm2(sel.v);
         if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
-        if (nvv <= tf * tf * size2) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
+        if (nvv <= tf * tf * size2) { apply_lean(sel); v = sel.v; status = GjkStatus::touching; break; }
         if (!(nvv < vv)) {
             s.size = old_size;
             if (momentum) { momentum = false; continue; }
@@ -853,7 +1026,7 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
             break;
         }
         w_last = s.v[std::size_t(old_size)].w;
-        Solver::apply(s, sel);
+        apply_lean(sel);
         v = sel.v;
         vv = nvv;
     }

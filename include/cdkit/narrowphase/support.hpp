@@ -15,6 +15,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <limits>
 
 /// Forces inlining of the few-flop helpers on GJK's per-iteration path (support maps, rotations): at -O2
 /// GCC kept several of them out of line, and the call overhead was a measurable share of a query.
@@ -53,7 +54,27 @@ concept HintedSupport = SupportMapped<T> && requires(const T& s, const Vec3<type
     { s.support(d, h) } -> std::convertible_to<Vec3<typename T::Scalar>>;
 };
 
+/// A shape that knows two balls about its `center()`, margins included: one that contains it
+/// (`bounding_radius()`) and one that it contains (`inner_radius()`; 0 when it has no interior, `center()`
+/// being a point of the shape). Both are rounded outwards (the outer one up, the inner one down), so they stay
+/// conservative. The cold boolean GJK decides a pair whose outer balls are disjoint, or whose inner balls
+/// overlap, before any support query (`GjkSettings::bounding_ball_test`).
+template <class T>
+concept HasBoundingBalls = SupportMapped<T> && requires(const T& s) {
+    { s.bounding_radius() } -> std::convertible_to<typename T::Scalar>;
+    { s.inner_radius() } -> std::convertible_to<typename T::Scalar>;
+};
+
 namespace detail {
+/// x rounded outwards by a few ulps: a radius computed with a handful of rounded operations (a sqrt, a sum)
+/// is within 4ε relative of the true value, so these give a certain upper / lower bound.
+template <class S> [[nodiscard]] inline S round_up(S x) noexcept {
+    return x * (S(1) + S(8) * std::numeric_limits<S>::epsilon());
+}
+template <class S> [[nodiscard]] inline S round_down(S x) noexcept {
+    return x * (S(1) - S(8) * std::numeric_limits<S>::epsilon());
+}
+
 /// R·v, R^T·v and R·p + t written out per component. Eigen's generic 3×3 product is not always inlined at
 /// -O2 (the profile of issue 5 showed `generic_product_impl::evalTo` as an out-of-line call taking ~10 % of a
 /// one-iteration GJK query); these are, and a support query on a placed shape needs two of them.
@@ -192,6 +213,17 @@ template <SupportMapped Shape> struct Inflated {
     }
     [[nodiscard]] Vec3<Scalar> center() const noexcept { return shape.center(); }
     [[nodiscard]] Scalar margin() const noexcept { return detail::margin_of(shape) + radius; }
+    /// Balls about center() (see HasBoundingBalls), where the wrapped shape has them.
+    [[nodiscard]] Scalar bounding_radius() const noexcept
+        requires HasBoundingBalls<Shape>
+    {
+        return detail::round_up(Scalar(shape.bounding_radius() + radius));
+    }
+    [[nodiscard]] Scalar inner_radius() const noexcept
+        requires HasBoundingBalls<Shape>
+    {
+        return detail::round_down(Scalar(shape.inner_radius() + radius));
+    }
     [[nodiscard]] Vec3<Scalar> core_support(const Vec3<Scalar>& d) const noexcept {
         return detail::core_support(shape, d);
     }
