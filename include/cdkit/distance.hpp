@@ -17,6 +17,8 @@
 /// value distance_brute_force() computes (same routine, same rounded vertices): a pair is pruned only when
 /// its bound, which never exceeds any of its triangle pairs' computed distances, reaches the best value.
 /// The tightest volume for this is Rss (a rectangle swept by a sphere); Obb and Aabb work too.
+/// A leaf pair whose bound is positive holds disjoint triangles (the bound never exceeds their computed
+/// distance), so its triangle pairs skip triangle_distance()'s exact intersection test, with the same result.
 /// Queries are const and thread-safe, and never throw (except std::bad_alloc when the open-pair heap grows:
 /// a thread_local vector whose storage the thread's later queries reuse, so no allocation per query).
 
@@ -62,13 +64,21 @@ namespace detail {
 /// points, converted to world at the end) when strictly below the best so far.
 template <class S>
 inline void distance_triangle_pair(const TriangleMesh<S>& ma, Index ta, const TriangleMesh<S>& mb, Index tb,
-                                   const Transform<S>& b_to_a, DistanceResult<S>& out) noexcept {
+                                   const Transform<S>& b_to_a, DistanceResult<S>& out, bool disjoint = false) noexcept {
     const auto& A = ma.triangles[ta];
     const auto& B = mb.triangles[tb];
     ++out.stats.primitive_tests;
-    const TriangleDistance<S> d =
-        triangle_distance(ma.vertices[A[0]], ma.vertices[A[1]], ma.vertices[A[2]], to_frame_a(b_to_a, mb.vertices[B[0]]),
-                          to_frame_a(b_to_a, mb.vertices[B[1]]), to_frame_a(b_to_a, mb.vertices[B[2]]));
+    TriangleDistance<S> d;
+    if (disjoint) {
+        // What triangle_distance computes for disjoint triangles, without its exact intersection test.
+        const Vec3<S> P[3] = {ma.vertices[A[0]], ma.vertices[A[1]], ma.vertices[A[2]]};
+        const Vec3<S> Q[3] = {to_frame_a(b_to_a, mb.vertices[B[0]]), to_frame_a(b_to_a, mb.vertices[B[1]]),
+                              to_frame_a(b_to_a, mb.vertices[B[2]])};
+        d.distance = std::sqrt(triangle_feature_dist2(P, Q, d.point_on_p, d.point_on_q));
+    } else {
+        d = triangle_distance(ma.vertices[A[0]], ma.vertices[A[1]], ma.vertices[A[2]], to_frame_a(b_to_a, mb.vertices[B[0]]),
+                              to_frame_a(b_to_a, mb.vertices[B[1]]), to_frame_a(b_to_a, mb.vertices[B[2]]));
+    }
     if (d.distance < out.distance) {
         out.distance = d.distance;
         out.point_a = d.point_on_p;
@@ -185,9 +195,11 @@ template <class BV, class M>
         const BvhNode<BV>& y = nb[it.b];
         const bool xl = x.is_leaf(), yl = y.is_leaf();
         if (xl && yl) {
+            // A positive bound proves the leaves' triangles disjoint: skip the exact intersection test.
+            const bool disjoint = it.bound > S(0);
             for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
                 for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
-                    detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out);
+                    detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out, disjoint);
             if (heap.empty() || out.distance == S(0)) break;  // 0: intersecting, nothing can be nearer
             it = detail::heap_pop(heap);
             continue;

@@ -1,4 +1,5 @@
-// Rss (rectangle swept sphere): fits contain their vertices; the distance lower bound never exceeds the
+// Rss (rectangle swept sphere): fits contain their vertices (also with the in-plane turn of small nodes, which
+// never makes a single triangle's rectangle larger than PCA's frame does); the distance lower bound never exceeds the
 // exact RSS distance (rectangles as two triangles each, triangle_distance, minus both radii) on random and
 // adversarial configurations (parallel, touching, nested, degenerate, far from the origin) and is close to
 // it on random ones, and with a cutoff (the early stops distance() uses) still below it and still reaching
@@ -11,6 +12,7 @@
 #include "cdkit/distance.hpp"
 #include "cdkit/narrowphase/triangle_distance.hpp"
 
+#include <numeric>
 #include <random>
 
 using namespace cdkit;
@@ -92,6 +94,58 @@ TEMPLATE_TEST_CASE("RSS fits contain every vertex, near and far from the origin"
         // The same through the build's moments path.
         const Rss<S> viam = Rss<S>::fit(d, TriangleRange(tris), triangle_moments(d));
         CHECK(std::abs(double(viam.axes.determinant()) - 1) < 1e-5);
+    }
+}
+
+TEMPLATE_TEST_CASE("RSS fits of small groups turn the rectangle in its plane and still contain every vertex", "[bv][rss]",
+                   float, double) {
+    // Groups of at most 16 triangles get their in-plane axes turned (Rss::turned_in_plane): the frame stays a
+    // rotation with the PCA normal, and the fit still holds every vertex, near and far from the origin.
+    using S = TestType;
+    int turned = 0;
+    for (unsigned seed = 1; seed <= unsigned(test::scaled(60, 12)); ++seed) {
+        auto m = test::random_soup<S>(1 + seed % 16, S(0.3), seed);
+        if (seed % 3 == 0)
+            for (auto& v : m.vertices) v += Vec3<S>(S(1000), S(-2000), S(500));
+        std::vector<Index> tris(m.triangles.size());
+        std::iota(tris.begin(), tris.end(), Index(0));
+        const Rss<S> bv = Rss<S>::fit(m, TriangleRange(tris));
+        REQUIRE(bv.is_valid());
+        for (const auto& v : m.vertices) REQUIRE(bv.contains(v));
+        CHECK(std::abs(double(bv.axes.determinant()) - 1) < 1e-5);
+        CHECK(((bv.axes.transpose() * bv.axes - Mat3<S>::Identity()).cwiseAbs().array() < S(1e-5)).all());
+        const Mat3<S> pca = Rss<S>::checked_frame(Obb<S>::fit(m, TriangleRange(tris)).axes, m, TriangleRange(tris));
+        CHECK(std::abs(double(bv.axes.col(2).dot(pca.col(2)))) > 1 - 1e-5);  // the same normal
+        if (std::abs(double(bv.axes.col(0).dot(pca.col(0)))) < 0.999) ++turned;
+    }
+    CHECK(turned >= test::scaled(60, 12) / 4);  // the turn is not a no-op
+}
+
+TEST_CASE("RSS fit of one triangle lies along one of its edges and is no larger than in PCA's frame", "[bv][rss]") {
+    // A right isosceles triangle: PCA's in-plane axes are its diagonals (half lengths sum ≈ 1.06); along the
+    // legs the rectangle is the unit square (sum 1).
+    TriangleMesh<double> t;
+    t.vertices = {Vec3<double>(0, 0, 0), Vec3<double>(1, 0, 0), Vec3<double>(0, 1, 0)};
+    t.triangles = {{0, 1, 2}};
+    const Index only[] = {0};
+    const Rss<double> r = Rss<double>::fit(t, TriangleRange(only));
+    CHECK(r.half[0] + r.half[1] <= 1.0 + 1e-9);
+    for (const auto& v : t.vertices) CHECK(r.contains(v));
+    // Random triangles: the smallest rectangle (area or half perimeter) has a side on an edge, so the
+    // edge-aligned fit is never larger than the fit in PCA's frame.
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int k = 0; k < test::scaled(500, 50); ++k) {
+        TriangleMesh<double> m;
+        for (int i = 0; i < 3; ++i) m.vertices.push_back(Vec3<double>(u(rng), u(rng), u(rng)) * std::exp(3 * u(rng)));
+        m.triangles = {{0, 1, 2}};
+        const Rss<double> fit = Rss<double>::fit(m, TriangleRange(only));
+        const Rss<double> plain = Rss<double>::fit_in_frame(
+            m, TriangleRange(only), Rss<double>::checked_frame(Obb<double>::fit(m, TriangleRange(only)).axes, m, TriangleRange(only)));
+        INFO("triangle " << k);
+        for (const auto& v : m.vertices) REQUIRE(fit.contains(v));
+        const double scale = m.vertices[0].norm() + m.vertices[1].norm() + m.vertices[2].norm();
+        CHECK(fit.half[0] + fit.half[1] <= plain.half[0] + plain.half[1] + 1e-9 * scale);
     }
 }
 

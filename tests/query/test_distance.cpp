@@ -1,7 +1,8 @@
 // distance() on BVHs against distance_brute_force() (same triangle routine, so equal values when no error
 // is allowed), the error bound when one is, closest points on their triangles, intersecting poses, parallel
 // faces, degenerate triangles, both scalars, Aabb, Obb and Rss (also float Rss over double meshes, and SAH-built
-// trees), the traversal's pruning at work, concurrent queries and the reused per-thread heap. Fixed seeds.
+// trees), the traversal's pruning at work, concurrent queries, the reused per-thread heap, and the leaf-pair
+// shortcut past the exact intersection test (same bits as triangle_distance). Fixed seeds.
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
@@ -278,6 +279,36 @@ TEMPLATE_TEST_CASE("distance over float BVs on double meshes and SAH-built RSS t
     }
     CHECK(separated >= total / 3);
     CHECK(separated < total);
+}
+
+TEMPLATE_TEST_CASE("distance: a leaf pair with a positive bound skips the intersection test with the same answer",
+                   "[distance]", float, double) {
+    // distance() passes `disjoint` for leaf pairs whose bound is positive and then computes the 15 feature
+    // candidates only. For every disjoint pair that is exactly what triangle_distance returns (same bits,
+    // same points); pairs a hair apart, touching and crossing pairs are drawn too.
+    using S = TestType;
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int separated = 0;
+    for (int k = 0; k < test::scaled(3000, 300); ++k) {
+        TriangleMesh<S> a, b;
+        for (int i = 0; i < 3; ++i) a.vertices.push_back(Vec3<double>(u(rng), u(rng), u(rng)).cast<S>());
+        for (int i = 0; i < 3; ++i) b.vertices.push_back(Vec3<double>(u(rng), u(rng), u(rng)).cast<S>());
+        a.triangles = b.triangles = {{0, 1, 2}};
+        const Transform<S> b_to_a = random_pose<S>(rng, k % 3 == 0 ? 0.5 : 2.5);
+        const Vec3<S> q[3] = {detail::to_frame_a(b_to_a, b.vertices[0]), detail::to_frame_a(b_to_a, b.vertices[1]),
+                              detail::to_frame_a(b_to_a, b.vertices[2])};
+        const TriangleDistance<S> ref = triangle_distance(a.vertices[0], a.vertices[1], a.vertices[2], q[0], q[1], q[2]);
+        if (!(ref.distance > S(0))) continue;
+        ++separated;
+        DistanceResult<S> got;
+        detail::distance_triangle_pair(a, 0, b, 0, b_to_a, got, true);
+        INFO("pair " << k);
+        REQUIRE(got.distance == ref.distance);
+        CHECK(got.point_a == ref.point_on_p);
+        CHECK(got.point_b == ref.point_on_q);
+    }
+    CHECK(separated >= test::scaled(3000, 300) / 3);
 }
 
 TEST_CASE("distance over RSS trees prunes: far fewer triangle pairs than brute force", "[distance]") {
