@@ -1,8 +1,9 @@
 // cdkit_bench_distance: separation distance between two copies of a mesh at P2 proximity poses
 // (BENCHMARKS.md): random rotation and direction, bisection to contact with cdkit::collide, then queries at
 // s* + δ·r for δ ∈ {0.005, 0.01, 0.05, 0.2}. cdkit distance() (Aabb, Obb, Rss and Rss<float> over the double
-// mesh with SAH splits, Rss with 4-triangle leaves, Rss with median splits; rel_err 0 and 0.01) against FCL's fcl::distance (BVHModel<RSS>,
-// BVHModel<OBBRSS>; rel_err 0 and 0.01) in one process, fixed seeds.
+// mesh with SAH splits, Rss with 4-triangle leaves, Rss with median splits, the restricted boxtree; rel_err 0
+// and 0.01) against FCL's fcl::distance (BVHModel<RSS>, BVHModel<OBBRSS>; rel_err 0 and 0.01) in one process,
+// fixed seeds.
 // Per δ class and method: median / p99 / max µs per query, ratios of medians to FCL RSS and FCL OBBRSS, work
 // counters, and the largest distance error against brute force (a subset of poses) and against cdkit's exact
 // answer.
@@ -12,6 +13,7 @@
 //   default: data/bunny.obj and data/dragon/dragon_48k.ply (when present); --full: bunny + every dragon.
 #include "../thread_cpu_clock.hpp"
 #include "cdkit/cdkit.hpp"
+#include "cdkit/bvh/boxtree_distance.hpp"
 #include "cdkit/distance.hpp"
 
 #include "../../tests/oracles/fcl_mesh.hpp"  // the FCL model builder the FCL tests use
@@ -143,6 +145,7 @@ int main(int argc, char** argv) {
         BuildOptions median;  // the default is SAH now: the median row must ask for it
         median.split = SplitStrategy::median;
         const MeshModel<Rss<double>> m_rss_median(mesh, median);
+        const RestrictedBoxtree<double> m_boxtree(mesh);
         const MeshModel<Rss<double>> m_rss4(mesh, leaf4);
         t0 = Clock::now();
         const auto f_rss = test::fcl_mesh<fcl::RSSd>(*mesh);
@@ -202,6 +205,7 @@ int main(int argc, char** argv) {
                 {"cdkit_rss_f32", "fcl_rss", "fcl_obbrss", cd(m_rssf, 0.0)},
                 {"cdkit_rss_leaf4", "fcl_rss", "fcl_obbrss", cd(m_rss4, 0.0)},
                 {"cdkit_rss_median", "fcl_rss", "fcl_obbrss", cd(m_rss_median, 0.0)},
+                {"cdkit_boxtree", "fcl_rss", "fcl_obbrss", cd(m_boxtree, 0.0)},
                 {"fcl_rss_rel0.01", "", "", fd(fa_rss, fb_rss, 0.01)},
                 {"fcl_obbrss_rel0.01", "", "", fd(fa_or, fb_or, 0.01)},
                 {"cdkit_aabb_rel0.01", "fcl_rss_rel0.01", "fcl_obbrss_rel0.01", cd(m_aabb, 0.01)},

@@ -60,31 +60,6 @@ void check_result(const TriangleMesh<S>& ma, const Transform<S>& pa, const Trian
     CHECK(std::abs((r.point_a - r.point_b).template cast<double>().norm() - double(r.distance)) <= tol<S>());
 }
 
-// A box of half extents h, each face split into 2·n² triangles (so that face-to-face pairs tie a lot).
-template <class S> TriangleMesh<S> grid_box(Vec3<double> h, int n) {
-    TriangleMesh<S> m;
-    for (int axis = 0; axis < 3; ++axis)
-        for (int sign = -1; sign <= 1; sign += 2) {
-            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            const Index base = Index(m.vertices.size());
-            for (int i = 0; i <= n; ++i)
-                for (int j = 0; j <= n; ++j) {
-                    Vec3<double> p;
-                    p[axis] = sign * h[axis];
-                    p[u] = h[u] * (2.0 * i / n - 1);
-                    p[v] = h[v] * (2.0 * j / n - 1);
-                    m.vertices.push_back(p.cast<S>());
-                }
-            for (int i = 0; i < n; ++i)
-                for (int j = 0; j < n; ++j) {
-                    const Index a = base + Index(i * (n + 1) + j), b = a + 1, c = a + Index(n + 1), d = c + 1;
-                    m.triangles.push_back({a, c, d});
-                    m.triangles.push_back({a, d, b});
-                }
-        }
-    return m;
-}
-
 }  // namespace
 
 TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[distance]", Aabb<float>, Aabb<double>,
@@ -128,7 +103,7 @@ TEMPLATE_TEST_CASE("distance: boxes face to face, parallel faces at a gap", "[di
                    Obb<float>, Obb<double>, Rss<float>, Rss<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
-    const MeshModel<BV> box(grid_box<S>({0.5, 0.3, 0.2}, 4));
+    const MeshModel<BV> box(test::grid_box<S>({0.5, 0.3, 0.2}, 4));
     std::mt19937_64 rng(5);
     for (double gap : {0.0, 1e-3, 0.01, 0.1, 0.7}) {
         // B shifted along x by the sum of half extents + gap, then both rotated rigidly together.
