@@ -20,6 +20,16 @@ constexpr double kPi = 3.14159265358979323846;
 
 double ball_volume(double r) noexcept { return 4.0 / 3.0 * kPi * r * r * r; }
 
+/// The closest points of the spheres of nodes x (in A's frame) and y (its centre cy carried to A's frame),
+/// on the line of their centres (along x when the centres coincide).
+void sphere_witness(const IstNode& x, const IstNode& y, const Vec3d& cy, Vec3d& pa, Vec3d& pb) noexcept {
+    Vec3d u = cy - x.center;
+    const double len = u.norm();
+    u = len > 0 ? Vec3d(u / len) : Vec3d::UnitX();
+    pa = x.center + x.radius * u;
+    pb = cy - y.radius * u;
+}
+
 struct Frame {
     Mat3<double> R;
     Vec3d t;
@@ -249,12 +259,7 @@ IstDistanceResult sphere_distance(const InnerSphereTree& a, const Transform<doub
         if (x.is_leaf() && y.is_leaf()) {
             ++out.stats.leaf_pairs;
             best = it.lb;
-            const Vec3d cy = to_a(y.center);
-            Vec3d u = cy - x.center;
-            const double len = u.norm();
-            u = len > 0 ? Vec3d(u / len) : Vec3d::UnitX();
-            pa = x.center + x.radius * u;
-            pb = cy - y.radius * u;
+            sphere_witness(x, y, to_a(y.center), pa, pb);
             out.sphere_a = x.first;
             out.sphere_b = y.first;
             if (best <= 0) break;  // overlapping inner spheres: nothing is nearer
@@ -323,11 +328,7 @@ void ist_query_budget(const InnerSphereTree& a, const Transform<double>& pose_a,
         if (x.is_leaf() && y.is_leaf()) {
             ++out.stats.leaf_pairs;
             best = it.key;
-            Vec3d u = cy - x.center;
-            const double len = u.norm();
-            u = len > 0 ? Vec3d(u / len) : Vec3d::UnitX();
-            pa = x.center + x.radius * u;
-            pb = cy - y.radius * u;
+            sphere_witness(x, y, cy, pa, pb);
             out.distance.sphere_a = x.first;
             out.distance.sphere_b = y.first;
             continue;
@@ -384,11 +385,7 @@ IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose
     auto leaf = [&](const IstNode& x, const IstNode& y, const Vec3d& cy, double lb) {
         if (!(lb < best)) return;
         best = lb;
-        Vec3d u = cy - x.center;
-        const double len = u.norm();
-        u = len > 0 ? Vec3d(u / len) : Vec3d::UnitX();
-        pa = x.center + x.radius * u;
-        pb = cy - y.radius * u;
+        sphere_witness(x, y, cy, pa, pb);
         out.distance.sphere_a = x.first;
         out.distance.sphere_b = y.first;
     };
