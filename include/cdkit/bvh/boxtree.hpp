@@ -134,14 +134,15 @@ template <class S> void RestrictedBoxtree<S>::build() {
                                          " triangles exceed the 27-bit node index (with these options)");
     centre_ = detail::boxtree_centre(mesh);
     Builder builder(mesh, centre_, options_);
-    root_box_ = detail::boxtree_root_box(mesh, builder.all());
+    typename Builder::Work root = builder.root();
+    root_box_ = root.parent = detail::boxtree_root_box(mesh, root.tight);
 
     // The top levels breadth first, then the subtrees below them (in parallel with TBB), each into its own
     // vector, spliced in order: the layout does not depend on the threads.
     constexpr std::uint32_t kTopLevels = 4;
     nodes_.assign(1, Node{});
     depth_ = 0;
-    std::vector<typename Builder::Work> level{builder.root(root_box_)}, pending;
+    std::vector<typename Builder::Work> level{root}, pending;
     std::array<typename Builder::Work, 2> below;
     while (!level.empty()) {
         std::vector<typename Builder::Work> next;

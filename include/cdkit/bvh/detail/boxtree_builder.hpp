@@ -114,14 +114,9 @@ public:
         for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = Index(i);
     }
 
-    /// The root's work (slot 0, every triangle); its parent box is `root_box` (the root restricts nothing).
-    [[nodiscard]] Work root(const FloatBox& root_box) const noexcept {
-        Work w = measured(0, std::uint32_t(order_.size()), 1, root_box);
-        w.node = 0;
-        return w;
-    }
-    /// All triangles' box (for the root box).
-    [[nodiscard]] BoxtreeTriBox all() const noexcept { return measured(0, std::uint32_t(order_.size()), 1, {}).tight; }
+    /// The root's work (slot 0, every triangle). Its `parent` is left for the caller to set to the root box,
+    /// which is made from `tight` (the root restricts nothing).
+    [[nodiscard]] Work root() const noexcept { return measured(0, std::uint32_t(order_.size()), 1, {}); }
 
     /// Writes w's node into nodes[w.node] (which exists): its restriction, a chain of one-child nodes
     /// appended after it, and a leaf or two children slots appended; returns how many children works it
