@@ -68,8 +68,8 @@ int collide_equals_brute_force(const Model& a, const Model& b, int poses, double
 }
 
 /// Const queries from four threads at once on shared models (MeshModel or RestrictedBoxtree): every thread
-/// must get the serial answers (contact counts) on `poses` near poses, `reps` times over; at least
-/// `min_hits` poses must collide so that the check means something.
+/// must get the serial answers (contact counts) on `poses` near poses, `reps` times over (fewer in reduced
+/// runs); at least `min_hits` poses must collide so that the check means something.
 template <class ModelA, class ModelB>
 void check_concurrent_collide(const ModelA& a, const ModelB& b, int poses, int reps, int min_hits) {
     std::mt19937_64 rng(99);
@@ -81,7 +81,7 @@ void check_concurrent_collide(const ModelA& a, const ModelB& b, int poses, int r
     std::vector<std::thread> threads;
     for (int t = 0; t < 4; ++t)
         threads.emplace_back([&, t] {
-            for (int rep = 0; rep < reps; ++rep)
+            for (int rep = 0; rep < scaled(reps); ++rep)
                 for (std::size_t i = 0; i < pose.size(); ++i)
                     if (collide(a, Transform<double>(), b, pose[i], {ContactMode::all}).contacts.size() != expected[i])
                         ++mismatches[t];
