@@ -12,7 +12,7 @@
 //     sphere_distance when no inner spheres overlap) at those poses and at separated ones (B moved 5% of the
 //     diagonal away from contact, δ = +0.05): median µs, node tests, and whether the answers are bit for bit equal.
 //
-// Usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]
+// Usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR] [--gaps]
 //   --quick: 1k and 10k spheres, 8 poses, 300k samples (under a minute); default adds 100k spheres,
 //   24 poses, 2M samples.
 //   --counts N,M,...: sphere counts instead of the mode's.
@@ -21,6 +21,9 @@
 //   strength derives it from self-contacts); --contact-depth F sets PackingOptions::depth_calibration_contact_depth.
 //   --plots DIR: instead, write the CSV files that benchmarks/ist/plot_ist.py draws (docs/images/ist_*.png):
 //   the packing's cross-section at 1k and 10k spheres, the tree's levels 1-3, force and torque along a path.
+//   --gaps: instead, where the packing leaves the mesh empty: per sphere count, uniform samples in the mesh
+//   (--samples N in the bounding box, exact inside test) by depth below the surface in units of the packing's
+//   sample spacing h, with the fraction of each depth layer that no sphere covers.
 #include "../thread_cpu_clock.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
@@ -29,6 +32,7 @@
 #include "cdkit/ist/inside_test.hpp"
 #include "cdkit/ist/ist_query.hpp"
 #include "cdkit/ist/penalty_force.hpp"
+#include "cdkit/ist/point_mesh_distance.hpp"
 #include "cdkit/query.hpp"
 
 #include <algorithm>
@@ -38,8 +42,10 @@
 #include <ctime>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <random>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 using namespace cdkit;
@@ -178,6 +184,68 @@ void write_plot_data(const TriangleMesh<double>& mesh, const std::string& dir) {
 
 }  // namespace
 
+/// The --gaps table: the empty part of the mesh by depth (see the usage comment). Samples in the bounding
+/// box, uniform (fixed seed); a sample is covered when it lies in a sphere (found through a hash grid of the
+/// spheres' boxes, cells 2h wide); its depth is its exact distance to the surface.
+void print_gap_profile(const TriangleMesh<double>& mesh, const std::vector<std::size_t>& counts, long samples,
+                       const PackingOptions& base) {
+    Vec3<double> lo = mesh.vertices[0], hi = lo;
+    for (const auto& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    const InsideTest inside(mesh);
+    const PointMeshDistance surface(mesh);
+    constexpr int layers = 6;
+    const double edges[layers] = {0.5, 1, 2, 4, 8, std::numeric_limits<double>::infinity()};
+    const char* names[layers] = {"< 0.5h", "0.5–1h", "1–2h", "2–4h", "4–8h", "≥ 8h"};
+    std::printf("| spheres | coverage | depth below the surface | share of the mesh volume | of it empty | empty, share of the mesh volume | share of all empty volume |\n"
+                "|---:|---:|---|---:|---:|---:|---:|\n");
+    for (std::size_t n : counts) {
+        PackingOptions po = base;
+        po.max_spheres = n;
+        const SpherePacking p = pack_spheres(mesh, po);
+        const double h = p.stats.grid_spacing, cell = 2 * h;
+        auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+            return std::uint64_t(x & 0x1fffff) | (std::uint64_t(y & 0x1fffff) << 21) | (std::uint64_t(z & 0x1fffff) << 42);
+        };
+        auto cell_of = [&](double v, int k) { return std::int64_t(std::floor((v - lo[k]) / cell)); };
+        std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+        for (std::size_t i = 0; i < p.spheres.size(); ++i) {
+            const InnerSphere& s = p.spheres[i];
+            for (std::int64_t z = cell_of(s.center.z() - s.radius, 2); z <= cell_of(s.center.z() + s.radius, 2); ++z)
+                for (std::int64_t y = cell_of(s.center.y() - s.radius, 1); y <= cell_of(s.center.y() + s.radius, 1); ++y)
+                    for (std::int64_t x = cell_of(s.center.x() - s.radius, 0); x <= cell_of(s.center.x() + s.radius, 0); ++x)
+                        grid[key(x, y, z)].push_back(std::uint32_t(i));
+        }
+        std::mt19937_64 rng(7);
+        std::uniform_real_distribution<double> unit(0, 1);
+        long in = 0, count[layers] = {}, empty[layers] = {};
+        for (long k = 0; k < samples; ++k) {
+            const Vec3<double> q(lo.x() + unit(rng) * (hi.x() - lo.x()), lo.y() + unit(rng) * (hi.y() - lo.y()),
+                                 lo.z() + unit(rng) * (hi.z() - lo.z()));
+            if (!inside.inside(q)) continue;
+            ++in;
+            const double depth = surface.query(q).distance / h;
+            int layer = 0;
+            while (depth >= edges[layer]) ++layer;
+            ++count[layer];
+            bool covered = false;
+            const auto it = grid.find(key(cell_of(q.x(), 0), cell_of(q.y(), 1), cell_of(q.z(), 2)));
+            if (it != grid.end())
+                for (std::uint32_t i : it->second)
+                    if ((q - p.spheres[i].center).squaredNorm() < p.spheres[i].radius * p.spheres[i].radius) { covered = true; break; }
+            if (!covered) ++empty[layer];
+        }
+        long all_empty = 0;
+        for (long e : empty) all_empty += e;
+        for (int l = 0; l < layers; ++l)
+            std::printf("| %zu | %.1f%% | %s | %.1f%% | %.1f%% | %.2f%% | %.0f%% |\n", n, 100 * p.coverage(), names[l],
+                        100.0 * double(count[l]) / double(std::max(in, 1L)), count[l] ? 100.0 * double(empty[l]) / double(count[l]) : 0.0,
+                        100.0 * double(empty[l]) / double(std::max(in, 1L)), 100.0 * double(empty[l]) / double(std::max(all_empty, 1L)));
+        std::printf("| %zu | | all (%ld samples in the mesh, h = %.4g) | 100%% | %.1f%% | %.2f%% | 100%% |\n", n, in,
+                    h, 100.0 * double(all_empty) / double(std::max(in, 1L)), 100.0 * double(all_empty) / double(std::max(in, 1L)));
+        std::fflush(stdout);
+    }
+}
+
 int main(int argc, char** argv) {
     bool quick = false;
     std::string mesh_path = std::string(CDKIT_BENCH_SOURCE_DIR) + "/data/bunny.obj", csv, plots;
@@ -188,6 +256,7 @@ int main(int argc, char** argv) {
     double calibration_strength = PackingOptions{}.depth_calibration_strength;
     double contact_depth = 0;
     long samples = -1;
+    bool gaps = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") quick = true;
@@ -196,6 +265,7 @@ int main(int argc, char** argv) {
         else if (a == "--samples" && i + 1 < argc) samples = std::atol(argv[++i]);
         else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
         else if (a == "--plots" && i + 1 < argc) plots = argv[++i];
+        else if (a == "--gaps") gaps = true;
         else if (a == "--no-depth-calibration") depth_calibration = false;
         else if (a == "--depth-calibration") depth_calibration = true;
         else if (a == "--counts" && i + 1 < argc) {
@@ -210,7 +280,7 @@ int main(int argc, char** argv) {
         else if (a == "--calibration-strength" && i + 1 < argc) calibration_strength = std::atof(argv[++i]);
         else if (a == "--contact-depth" && i + 1 < argc) contact_depth = std::atof(argv[++i]);
         else {
-            std::fprintf(stderr, "usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR]\n"
+            std::fprintf(stderr, "usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--csv PATH] [--plots DIR] [--gaps]\n"
                          "                       [--counts N,M,...] [--[no-]depth-calibration] [--calibration-iterations N]\n"
                          "                       [--calibration-strength A] [--contact-depth F]\n");
             return 2;
@@ -231,6 +301,14 @@ int main(int argc, char** argv) {
         const double diag = (hi - lo).norm();
         if (!plots.empty()) {
             write_plot_data(mesh, plots);
+            return 0;
+        }
+        if (gaps) {
+            PackingOptions po;
+            po.depth_calibration = false;  // the spheres do not depend on it
+            std::printf("# cdkit_bench_ist --gaps: %s (%zu triangles), %ld samples in the bounding box\n\n", mesh_path.c_str(),
+                        mesh.triangles.size(), samples);
+            print_gap_profile(mesh, counts, samples, po);
             return 0;
         }
         std::printf("# cdkit_bench_ist: %s (%zu triangles), %d poses at δ = -0.05 (depth %.4f), %ld MC samples%s\n\n",
