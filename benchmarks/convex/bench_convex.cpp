@@ -1,7 +1,10 @@
 // P3 convex pairs (BENCHMARKS.md): cdkit GJK (boolean, distance) and EPA against libccd (GJK, MPR,
 // GJK+EPA penetration) and FCL 0.7's two solvers (GJKSolver_indep, GJKSolver_libccd: boolean, distance,
 // penetration; peer_fcl.cpp) on the same shapes and poses, in one process, fixed seeds.
-// Usage: cdkit_bench_convex [configs_per_cell=100] [check_cases=1000000] [csv_path]
+// Usage: cdkit_bench_convex [configs_per_cell=100] [check_cases=1000000] [csv_path|-] [families]
+// families: comma-separated subset of ellipsoid,box,capsule,cylinder,cone,hull100,hull1000 (default all); the
+// other families still draw their shapes and poses, so a measured family gets the configurations of a full run.
+// Quick A/B run of the slow boolean cells: cdkit_bench_convex 100 0 - box,cone,cylinder,hull100,hull1000
 // With csv_path, also writes one row per (family, class, method): median and p99 ns, mean iterations, maximum
 // error and the fraction of configurations in error (booleans: wrong answers; distances and depths: relative
 // error > 1e-9), for plot_convex.py.
@@ -92,7 +95,7 @@ struct Row {
 
 /// One family: `make(rng)` returns {shape<double>, shape<long double>} pairs; scale = size of the shapes.
 template <class Make> void run_family(const char* name, Make make, double scale, int configs, std::vector<Row>& rows,
-                                      std::mt19937_64& rng) {
+                                      std::mt19937_64& rng, bool measure = true) {
     const double targets[3][4] = {{5, 2.5, 1, 0.5}, {1e-1, 1e-2, 1e-3, 1e-4}, {-1e-1, -1e-2, -1e-3, -1e-4}};
     const char* cls[3] = {"distant", "close", "overlapping"};
     for (int c = 0; c < 3; ++c) {
@@ -108,6 +111,7 @@ template <class Make> void run_family(const char* name, Make make, double scale,
             Transform<double> pa(random_rotation(rng), Vec3<double>::Zero());
             std::normal_distribution<double> g;
             Transform<double> pb(random_rotation(rng), Vec3<double>(g(rng), g(rng), g(rng)).normalized() * 4 * scale);
+            if (!measure) continue;  // the draws of a measured family are made; nothing else uses the generator
             GjkSettings<LD> tight;
             tight.rel_tolerance = 1e-16L;
             auto d0 = gjk_distance(al, pa.cast<LD>(), bl, pb.cast<LD>(), nullptr, tight);
@@ -198,7 +202,7 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                 }
             }
         }
-        rows.push_back(std::move(row));
+        if (measure) rows.push_back(std::move(row));
     }
 }
 
@@ -207,7 +211,9 @@ template <class Make> void run_family(const char* name, Make make, double scale,
 int main(int argc, char** argv) {
     int configs = argc > 1 ? std::atoi(argv[1]) : 100;
     long checks = argc > 2 ? std::atol(argv[2]) : 1000000;
-    const char* csv_path = argc > 3 ? argv[3] : nullptr;
+    const char* csv_path = argc > 3 && std::string(argv[3]) != "-" ? argv[3] : nullptr;
+    const std::string families = argc > 4 ? "," + std::string(argv[4]) + "," : std::string();
+    auto wanted = [&](const char* f) { return families.empty() || families.find("," + std::string(f) + ",") != std::string::npos; };
     std::mt19937_64 rng(20261122);
     std::vector<Row> rows;
     std::uniform_real_distribution<double> u(0.5, 1.0);
@@ -238,13 +244,13 @@ int main(int argc, char** argv) {
             return std::pair{ConvexPolyhedron<double>(p), ConvexPolyhedron<LD>(castv<Vec3<LD>>(p))};
         };
     };
-    run_family("ellipsoid", ell, 0.1, configs, rows, rng);
-    run_family("box", box, 0.1, configs, rows, rng);
-    run_family("capsule", cap, 0.1, configs, rows, rng);
-    run_family("cylinder", cyl, 0.1, configs, rows, rng);
-    run_family("cone", cone, 0.1, configs, rows, rng);
-    run_family("hull100", hull(100), 0.1, configs, rows, rng);
-    run_family("hull1000", hull(1000), 0.1, configs, rows, rng);
+    run_family("ellipsoid", ell, 0.1, configs, rows, rng, wanted("ellipsoid"));
+    run_family("box", box, 0.1, configs, rows, rng, wanted("box"));
+    run_family("capsule", cap, 0.1, configs, rows, rng, wanted("capsule"));
+    run_family("cylinder", cyl, 0.1, configs, rows, rng, wanted("cylinder"));
+    run_family("cone", cone, 0.1, configs, rows, rng, wanted("cone"));
+    run_family("hull100", hull(100), 0.1, configs, rows, rng, wanted("hull100"));
+    run_family("hull1000", hull(1000), 0.1, configs, rows, rng, wanted("hull1000"));
 
     std::printf("P3 convex pairs: %d configurations per cell, each timed as a batch of >= %d calls and >= 20 us "
                 "of thread CPU time (clock cost %.0f ns subtracted); times in ns per call\n",

@@ -99,9 +99,9 @@ template <class S> struct PlacedHull {
     const ConvexPolyhedron<S>& p;
     const Transform<S>* pose = nullptr;
     [[nodiscard]] Vec3<S> vertex(std::uint32_t i) const noexcept {
-        return pose ? Vec3<S>(pose->R * p.vertices()[i] + pose->t) : p.vertices()[i];
+        return pose ? place(*pose, p.vertices()[i]) : p.vertices()[i];
     }
-    [[nodiscard]] Vec3<S> dir(const Vec3<S>& d) const noexcept { return pose ? Vec3<S>(pose->R * d) : d; }
+    [[nodiscard]] Vec3<S> dir(const Vec3<S>& d) const noexcept { return pose ? rotate(pose->R, d) : d; }
 };
 
 /// Closest points of two features, and the sub-features (lowest dimension) that hold them.
@@ -353,7 +353,9 @@ template <class S>
                                                               ClosestFeatureCache<S>* cache = nullptr,
                                                               const ClosestFeatureSettings<S>& settings = {}) noexcept {
     ClosestFeatureResult<S> r;
-    const Transform<S> rel = pose_a.inverse() * pose_b;
+    // Per-component rotations (detail::relative_pose, place, rotate, rotate_back): Eigen's 3×3 products were
+    // out-of-line calls in this per-frame path.
+    const Transform<S> rel = detail::relative_pose(pose_a, pose_b);
     if (!rel.R.allFinite() || !rel.t.allFinite()) {
         r.status = GjkStatus::degenerate;
         r.distance = std::numeric_limits<S>::quiet_NaN();
@@ -383,10 +385,10 @@ template <class S>
         fa = cache->a;
         fb = cache->b;
     } else {
-        Vec3<S> d = rel * b.center() - a.center();
+        Vec3<S> d = detail::place(rel, b.center()) - a.center();
         if (!(d.squaredNorm() > S(0))) d = Vec3<S>::UnitX();
         fa = {FeatureType::vertex, a.support_index(d)};
-        fb = {FeatureType::vertex, b.support_index(Vec3<S>(-(rel.R.transpose() * d)))};
+        fb = {FeatureType::vertex, b.support_index(Vec3<S>(-detail::rotate_back(rel.R, d)))};
     }
     // Feature pairs seen in this query: a repeat is a cycle.
     constexpr int history_size = 32;
@@ -412,8 +414,8 @@ template <class S>
         if (c.crossing || len <= tiny) {
             r.status = c.crossing ? GjkStatus::intersecting : GjkStatus::touching;
             r.distance = S(0);
-            r.point_a = pose_a * c.pa;
-            r.point_b = pose_a * c.pb;
+            r.point_a = detail::place(pose_a, c.pa);
+            r.point_b = detail::place(pose_a, c.pb);
             return r;
         }
         const Vec3<S> n = c.pb - c.pa;
@@ -425,13 +427,13 @@ template <class S>
             u = a.face_normal(fa.index);
             floor_factor = S(1);
         } else if (fb.type == FeatureType::face) {
-            const Vec3<S> nb = rel.R * b.face_normal(fb.index);
+            const Vec3<S> nb = detail::rotate(rel.R, b.face_normal(fb.index));
             if (nb.dot(n) < S(0)) { u = -nb; floor_factor = S(1); }
         } else if (fa.type == FeatureType::edge && fb.type == FeatureType::edge) {
             const auto& ea = a.edges()[fa.index];
             const auto& eb = b.edges()[fb.index];
             const Vec3<S> da = a.vertices()[ea.v1] - a.vertices()[ea.v0];
-            const Vec3<S> db = rel.R * Vec3<S>(b.vertices()[eb.v1] - b.vertices()[eb.v0]);
+            const Vec3<S> db = detail::rotate(rel.R, Vec3<S>(b.vertices()[eb.v1] - b.vertices()[eb.v0]));
             Vec3<S> cr = da.cross(db);
             const S sine = cr.norm() / (da.norm() * db.norm());
             if (sine > S(1e-3)) {
@@ -448,8 +450,8 @@ template <class S>
         if (v == 1) { fa = next; continue; }
         Vec3<S> inside_point = c.pb;
         if (v == 0) {
-            const Vec3<S> m = rel.R.transpose() * Vec3<S>(-u);
-            const Vec3<S> pa_in_b = rel.R.transpose() * Vec3<S>(c.pa - rel.t);
+            const Vec3<S> m = detail::rotate_back(rel.R, Vec3<S>(-u));
+            const Vec3<S> pa_in_b = detail::rotate_back(rel.R, Vec3<S>(c.pa - rel.t));
             v = detail::voronoi_check(b, fb, m, S(1), cos_tol, pa_in_b, tiny, next);
             if (v == 1) { fb = next; continue; }
             inside_point = c.pa;
@@ -457,14 +459,14 @@ template <class S>
         if (v == 2) {
             r.status = GjkStatus::intersecting;
             r.distance = S(0);
-            r.point_a = r.point_b = pose_a * inside_point;
+            r.point_a = r.point_b = detail::place(pose_a, inside_point);
             return r;
         }
         r.status = GjkStatus::separated;
         r.distance = len;
-        r.point_a = pose_a * c.pa;
-        r.point_b = pose_a * c.pb;
-        r.normal = pose_a.R * Vec3<S>(n / len);
+        r.point_a = detail::place(pose_a, c.pa);
+        r.point_b = detail::place(pose_a, c.pb);
+        r.normal = detail::rotate(pose_a.R, Vec3<S>(n / len));
         return r;
     }
     return fallback(fa, fb);

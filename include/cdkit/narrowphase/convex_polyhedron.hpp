@@ -5,7 +5,9 @@
 /// algorithm for convex hulls", ACM TOMS 1996) in src/convex/convex_hull.cpp, linked privately.
 /// Support queries scan all vertices for small hulls and otherwise climb the vertex adjacency graph
 /// (a linear function has no local maximum on a convex polytope's graph that is not global; van den
-/// Bergen 2003, §4.3.4 "hill climbing").
+/// Bergen 2003, §4.3.4 "hill climbing"), starting from a caller's hint when its neighbours prove it, else
+/// from a vertex looked up by direction in a small table built with the hull (the support vertices of the
+/// cells of a cube map around the unit sphere), which is the answer or next to it.
 ///
 /// It also keeps the boundary as polygons (coplanar facets merged by Qhull) with a face–edge–vertex
 /// adjacency, outward unit face normals and the edge and face Voronoi-plane directions that
@@ -57,6 +59,9 @@ public:
     using Scalar = S;
     /// Hulls with at most this many vertices are searched by brute force; larger ones by hill climbing.
     static constexpr std::size_t brute_force_limit = 24;
+    /// Larger hulls start hill climbing from a direction table: each face of the cube around the unit sphere
+    /// cut into table_res × table_res cells (see build_start_table).
+    static constexpr int table_res = 8;
 
     /// Builds the hull of `points` (throws cdkit::Error on bad input, see detail::convex_hull).
     explicit ConvexPolyhedron(const std::vector<Vec3<S>>& points) {
@@ -94,30 +99,50 @@ public:
                 d[axis] = S(sgn);
                 seeds_[std::size_t(2 * axis + (sgn + 1) / 2)] = brute_force_index(d);
             }
+        build_start_table();
     }
 
     /// The vertex maximising d·x. Const, noexcept, thread-safe (no cached state).
     [[nodiscard]] Vec3<S> support(const Vec3<S>& d) const noexcept { return vertices_[support_index(d)]; }
     /// Index into vertices() of a vertex maximising d·x.
     [[nodiscard]] std::uint32_t support_index(const Vec3<S>& d) const noexcept {
+        if (vertices_.size() <= brute_force_limit) return brute_force_index(d);
         return support_index(d, std::uint32_t(-1));
     }
-    /// The same, hill climbing from the best of vertex `hint` and the six axis seeds (any index; one out of
-    /// range is ignored). With the previous answer of a coherent sequence of directions as the hint (last
-    /// frame's support vertex, or the previous GJK iteration's) the climb is zero or one step; the seeds keep
-    /// a poor hint (directions that jump, as in GJK's first iterations) from costing a long climb. A linear
-    /// function has no non-global local maximum on the vertex graph, so any start gives the same maximum.
+    /// The same, from vertex `hint` (any index; one out of range is ignored): when no neighbour of the hint is
+    /// better it is the answer (one scan: the usual case for the previous answer of a coherent sequence of
+    /// directions, last frame's support vertex or the previous GJK iteration's); otherwise the climb goes on
+    /// from the better of the hint's best neighbour and the direction table's start vertex
+    /// (`build_start_table`), which keeps a poor hint (directions that jump, as in GJK's first iterations)
+    /// from costing a long climb. A linear function has no non-global local maximum on the vertex graph, so
+    /// any start gives the same maximum.
     [[nodiscard]] std::uint32_t support_index(const Vec3<S>& d, std::uint32_t hint) const noexcept {
-        if (vertices_.size() <= brute_force_limit) return brute_force_index(d);
-        std::uint32_t best = seeds_[0];
-        S best_dot = d.dot(vertices_[best]);
-        for (std::size_t k = 1; k < 6; ++k) {
-            S v = d.dot(vertices_[seeds_[k]]);
-            if (v > best_dot) { best_dot = v; best = seeds_[k]; }
-        }
+        std::uint32_t best = std::uint32_t(-1);
+        S best_dot = S(0);
         if (hint < vertices_.size()) {
-            const S h = d.dot(vertices_[hint]);
-            if (h > best_dot) { best_dot = h; best = hint; }
+            // A coherent caller's hint is usually the answer: one scan of its neighbours proves it (a local
+            // maximum is the global one) without the table lookup, whose division and load would sit on the
+            // query's critical path.
+            best = hint;
+            best_dot = d.dot(vertices_[hint]);
+            for (std::uint32_t e = offsets_[hint]; e < offsets_[hint + 1]; ++e) {
+                const S v = d.dot(vertices_[neighbours_[e]]);
+                if (v > best_dot) { best_dot = v; best = neighbours_[e]; }
+            }
+            // (Not when the products overflowed to −∞ around the hint: a tie there proves nothing.)
+            if (best == hint && best_dot >= -std::numeric_limits<S>::max()) return hint;
+        }
+        if (vertices_.size() <= brute_force_limit) return brute_force_index(d);
+        const std::uint32_t start = table_start(d);
+        if (start != std::uint32_t(-1)) {
+            const S t = d.dot(vertices_[start]);
+            if (best == std::uint32_t(-1) || t > best_dot) { best_dot = t; best = start; }
+            return climb(d, best, best_dot);
+        }
+        // Not tabulated (a zero, subnormal or non-finite direction): the six axis seeds.
+        for (std::uint32_t seed : seeds_) {
+            const S v = d.dot(vertices_[seed]);
+            if (best == std::uint32_t(-1) || v > best_dot) { best_dot = v; best = seed; }
         }
         return climb(d, best, best_dot);
     }
@@ -272,6 +297,45 @@ private:
         inner_radius_ = usable ? detail::round_down(S(inner)) : S(0);
     }
 
+    /// Start vertices for hill climbing by direction: the cube around the unit sphere, each face cut into
+    /// table_res × table_res cells, each cell holding the support vertex of its centre direction. A query
+    /// direction's cell is found with one division; its support vertex is that entry or a neighbour of it in
+    /// most queries (a cell is narrower than the normal cone of a vertex of hulls up to a few hundred vertices),
+    /// so the climb is a scan or two instead of the six seeds and a longer climb. Only the start depends on
+    /// it: the climb still ends at a vertex no neighbour beats, the global maximum.
+    void build_start_table() {
+        if (vertices_.size() <= brute_force_limit) return;
+        start_table_.resize(std::size_t(6 * table_res * table_res));
+        for (int face = 0; face < 6; ++face)
+            for (int i = 0; i < table_res; ++i)
+                for (int j = 0; j < table_res; ++j) {
+                    const int axis = face / 2;
+                    Vec3<S> d;
+                    d[axis] = face % 2 ? S(-1) : S(1);
+                    d[(axis + 1) % 3] = S(2 * i + 1) / S(table_res) - S(1);
+                    d[(axis + 2) % 3] = S(2 * j + 1) / S(table_res) - S(1);
+                    start_table_[std::size_t((face * table_res + i) * table_res + j)] = brute_force_index(d);
+                }
+    }
+    /// The table's start vertex for direction d; uint32(-1) when d is zero or not finite.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE std::uint32_t table_start(const Vec3<S>& d) const noexcept {
+        const S x = d[0], y = d[1], z = d[2];
+        const S ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
+        int face;
+        S m, u, v;
+        if (ax >= ay && ax >= az) { face = x < S(0); m = ax; u = y; v = z; }
+        else if (ay >= az) { face = 2 + (y < S(0)); m = ay; u = z; v = x; }
+        else { face = 4 + (z < S(0)); m = az; u = x; v = y; }
+        constexpr S half = S(table_res) / S(2);
+        const S k = half / m;
+        // |u|, |v| ≤ m, so fi, fj lie in [0, table_res] up to rounding; anything else (NaN or infinite
+        // components, a zero or subnormal direction) falls back to the seeds.
+        const S fi = u * k + half, fj = v * k + half;
+        if (!(fi > S(-1) && fi < S(table_res + 1) && fj > S(-1) && fj < S(table_res + 1))) return std::uint32_t(-1);
+        const int i = std::clamp(int(fi), 0, table_res - 1);
+        const int j = std::clamp(int(fj), 0, table_res - 1);
+        return start_table_[std::size_t((face * table_res + i) * table_res + j)];
+    }
     /// Climbs to the best neighbour of the current vertex until none is better; each step strictly
     /// increases d·x, so it stops after at most |V| steps.
     [[nodiscard]] std::uint32_t climb(const Vec3<S>& d, std::uint32_t best, S best_dot) const noexcept {
@@ -298,6 +362,7 @@ private:
     std::vector<std::array<std::uint32_t, 3>> triangles_;
     std::vector<std::uint32_t> offsets_, neighbours_;
     std::array<std::uint32_t, 6> seeds_{};
+    std::vector<std::uint32_t> start_table_;  ///< see build_start_table (empty for brute-force hulls)
     Vec3<S> center_ = Vec3<S>::Zero();
     // Boundary topology in CSR form (see the accessors).
     std::vector<std::uint32_t> face_begin_, face_loop_, face_edge_;

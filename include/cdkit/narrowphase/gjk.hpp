@@ -863,6 +863,8 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
     const S tf = settings.touch_factor * eps;
     GjkSimplex<S>& s = r.simplex;
     s.size = 0;
+    // Hill-climbing hints between iterations: a polyhedron tries the previous support vertex with one scan of
+    // its neighbours and otherwise climbs from its direction table (ConvexPolyhedron::support_index).
     std::uint32_t hints[2] = {std::uint32_t(-1), std::uint32_t(-1)};
     // Plane test: v·w/|v| > margin + 256·ε·max(size, margin) (the threshold gjk_finish uses), in squares so
     // that a failing test costs no sqrt (none at all without margins).
