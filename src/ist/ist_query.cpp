@@ -165,6 +165,17 @@ void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const
         bool operator<(const Item& o) const noexcept { return bound < o.bound; }
     };
     std::priority_queue<Item> heap;
+    // Every frontier of the expansion bounds the volume: exact + Σ open bounds. A split can raise that sum
+    // (the children's lens bounds may add up past their parent's), so the least sum seen is kept, which also
+    // makes volume_upper non-increasing in the budget (a larger budget runs the same expansion further). The
+    // running sum `open` drifts by at most one rounding of its largest magnitude per update; that is added
+    // back to each sum before it competes.
+    double open = 0, open_peak = 0, least_upper = std::numeric_limits<double>::infinity();
+    std::uint64_t updates = 0;
+    auto note_frontier = [&] {
+        const double drift = double(updates + 2) * std::numeric_limits<double>::epsilon() * (open_peak + exact);
+        least_upper = std::min(least_upper, exact + std::max(open, 0.0) + drift);
+    };
     auto push = [&](std::uint32_t ia, std::uint32_t ib) {
         const IstNode& x = na[ia];
         const IstNode& y = nb[ib];
@@ -181,11 +192,17 @@ void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const
         const double bound = std::min({x.volume, y.volume, lens});
         const double fill = (x.volume / std::max(ball_volume(x.radius), 1e-300)) * (y.volume / std::max(ball_volume(y.radius), 1e-300));
         heap.push({bound, std::min(bound, lens * fill), ia, ib});
+        open += bound;
+        open_peak = std::max(open_peak, open);
+        ++updates;
     };
     push(0, 0);
+    note_frontier();
     while (!heap.empty() && out.stats.node_tests < request.max_node_tests) {
         const Item it = heap.top();
         heap.pop();
+        open -= it.bound;
+        ++updates;
         const IstNode& x = na[it.a];
         const IstNode& y = nb[it.b];
         if (y.is_leaf() || (!x.is_leaf() && x.radius >= y.radius)) {
@@ -193,17 +210,17 @@ void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const
         } else {
             for (std::uint32_t j = y.first; j < y.first + y.count; ++j) push(it.a, j);
         }
+        note_frontier();
     }
-    double rest_bound = 0, rest_estimate = 0;
+    double rest_estimate = 0;
     out.complete = heap.empty();
     while (!heap.empty()) {
-        rest_bound += heap.top().bound;
         rest_estimate += heap.top().estimate;
         heap.pop();
     }
     out.volume_lower = exact;
-    out.volume_upper = exact + rest_bound;
-    out.volume = exact + rest_estimate;
+    out.volume_upper = out.complete ? exact : least_upper;
+    out.volume = std::min(exact + rest_estimate, out.volume_upper);
     const double cov = std::max(a.coverage() * b.coverage(), 1e-12);
     out.calibrated = calibrated + rest_estimate / cov;
 }

@@ -190,7 +190,7 @@ TEST_CASE("time-critical mode: the interval holds the exact volume and tightens 
         const double exact = penetration_volume(t, pa, t, pb).volume;
         if (exact == 0) continue;
         ++tested;
-        double first_width = -1;
+        double first_width = -1, last_lower = 0, last_upper = std::numeric_limits<double>::infinity();
         for (std::uint64_t budget : {10, 100, 1000, 100000000}) {
             IstRequest req;
             req.max_node_tests = budget;
@@ -200,6 +200,11 @@ TEST_CASE("time-critical mode: the interval holds the exact volume and tightens 
             CHECK(r.volume_upper >= exact * (1 - 1e-12));
             CHECK(r.volume >= r.volume_lower);
             CHECK(r.volume <= r.volume_upper);
+            // A larger budget runs the same expansion further: the interval never widens.
+            CHECK(r.volume_lower >= last_lower);
+            CHECK(r.volume_upper <= last_upper);
+            last_lower = r.volume_lower;
+            last_upper = r.volume_upper;
             if (first_width < 0) first_width = r.volume_upper - r.volume_lower;
             if (budget == 1000) CHECK(r.volume_upper - r.volume_lower < first_width);
             if (budget == 100000000) {

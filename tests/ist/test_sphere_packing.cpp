@@ -3,6 +3,7 @@
 #include "ist_test_util.hpp"
 
 #include "cdkit/ist/closed_mesh.hpp"
+#include "cdkit/ist/detail/min_norm_point.hpp"
 #include "cdkit/ist/inside_test.hpp"
 #include "cdkit/ist/point_mesh_distance.hpp"
 
@@ -10,6 +11,10 @@
 
 #include <cmath>
 #include <random>
+
+#if defined(CDKIT_HAS_TBB) && CDKIT_HAS_TBB
+#include <tbb/global_control.h>
+#endif
 
 using namespace cdkit;
 using cdkit::test::scaled;
@@ -117,6 +122,11 @@ TEST_CASE("bad meshes are rejected with cdkit::Error and the edge counts", "[ist
         o = {};
         o.max_spheres = 0;
         CHECK_THROWS_AS(pack_spheres(tetra(), o), Error);
+        o = {};
+        o.lookahead = -0.1;
+        CHECK_THROWS_AS(pack_spheres(tetra(), o), Error);
+        o.lookahead = 4.5;
+        CHECK_THROWS_AS(pack_spheres(tetra(), o), Error);
         CHECK_THROWS_AS(InnerSphereTree(SpherePacking{}), Error);
     }
 }
@@ -144,6 +154,11 @@ TEST_CASE("packed spheres lie inside the mesh and do not overlap (brute force)",
     PackingOptions o;
     o.max_spheres = std::size_t(scaled(300, 60));
     o.grid_resolution = 32;
+    // With the look-ahead (default) refined centres wait in the heap while other spheres are placed; without
+    // it each refinement is placed at once.
+    const double look = GENERATE(PackingOptions{}.lookahead, 0.0);
+    o.lookahead = look;
+    INFO("lookahead " << look);
     const SpherePacking p = pack_spheres(bunny, o);
     REQUIRE(p.spheres.size() == o.max_spheres);
     CHECK(p.stop == PackingStop::max_spheres);
@@ -173,6 +188,7 @@ TEST_CASE("coverage grows with the sphere count; packing is deterministic per se
     PackingOptions o;
     o.grid_resolution = 40;
     o.max_spheres = 600;
+    o.depth_calibration = false;  // the spheres do not depend on it
     const SpherePacking p = pack_spheres(bunny, o);
     double last = 0;
     for (std::size_t n : {1, 10, 50, 200, 600}) {
@@ -268,7 +284,11 @@ TEST_CASE("tree over the packing: valid, out-degree respected, leaves are the sp
 TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and their total near the volume", "[ist][packing]") {
     const auto bunny = test::unit_bunny();
     PackingOptions o;
-    o.grid_resolution = 40;
+    // At 40 samples across, the self-contacts' lattice is so coarse that the derived α sits at or near 1
+    // (0.96–1.0 for 400–1000 spheres); at 48 it is 0.76. The look-ahead (placement order) is off: it does
+    // not touch the calibration, and seven packings with it would cost the sanitizer job seconds.
+    o.grid_resolution = 48;
+    o.lookahead = 0;
     o.max_spheres = 400;
     o.depth_calibration = false;
     const SpherePacking plain = pack_spheres(bunny, o);
@@ -347,4 +367,71 @@ TEST_CASE("depth calibration: rescales the cell weights, keeps them ≥ 1 and th
     CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
     o.depth_calibration_iterations = 101;
     CHECK_THROWS_AS(pack_spheres(bunny, o), Error);
+}
+
+TEST_CASE("least-norm point of a hull: optimal, against a dense search of the hull", "[ist][packing]") {
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> g;
+    int zero = 0, nonzero = 0;
+    for (int trial = 0; trial < scaled(300, 60); ++trial) {
+        const int n = 1 + trial % 4;
+        std::vector<Vec3<double>> v(static_cast<std::size_t>(n), Vec3<double>::Zero());
+        // Unit vectors, as the packing's gradients; half the trials lean on one side (a nonzero answer).
+        const Vec3<double> lean = (trial / 4) % 2 ? Vec3<double>(g(rng), g(rng), g(rng)).normalized() : Vec3<double>::Zero();
+        for (auto& x : v) x = (Vec3<double>(g(rng), g(rng), g(rng)).normalized() + 1.2 * lean).normalized();
+        if (trial % 5 == 0 && n >= 2) v[1] = -v[0];  // opposite constraints: the origin lies in the hull
+        const Vec3<double> z = detail::min_norm_in_hull(v);
+        // Optimal: no hull point is shorter (z·v_i ≥ |z|² for all i means z·p ≥ |z|² for every hull point p).
+        for (const auto& x : v) CHECK(z.dot(x) >= z.squaredNorm() - 1e-9);
+        // Attained: a simplex lattice of convex weights (step 1/24) gets within its spacing of |z|.
+        double lattice = std::numeric_limits<double>::infinity();
+        constexpr int m = 24;
+        for (int a = 0; a <= m; ++a)
+            for (int b = 0; b <= m - a; ++b)
+                for (int c = 0; c <= m - a - b; ++c) {
+                    const int d = m - a - b - c;
+                    if ((n < 2 && b) || (n < 3 && c) || (n < 4 && d)) continue;  // weights of absent vectors
+                    const Vec3<double> p = (double(a) * v[0] + double(b) * v[std::size_t(std::min(1, n - 1))] +
+                                            double(c) * v[std::size_t(std::min(2, n - 1))] +
+                                            double(d) * v[std::size_t(std::min(3, n - 1))]) / double(m);
+                    lattice = std::min(lattice, p.norm());
+                }
+        INFO("trial " << trial << " n " << n << " |z| " << z.norm() << " lattice " << lattice);
+        CHECK(z.norm() <= lattice + 1e-12);
+        CHECK(z.norm() >= lattice - 2.0 / m);
+        (z.norm() < 1e-9 ? zero : nonzero) += 1;
+    }
+    CHECK(zero > 0);  // both kinds of answer were exercised
+    CHECK(nonzero > zero);
+}
+
+TEST_CASE("look-ahead: more coverage for the same count; deterministic and thread-count independent", "[ist][packing]") {
+    const auto bunny = test::unit_bunny();
+    PackingOptions o;
+    o.grid_resolution = 32;
+    o.max_spheres = std::size_t(scaled(400, 100));
+    o.depth_calibration = false;
+    const SpherePacking ahead = pack_spheres(bunny, o);
+    o.lookahead = 0;
+    const SpherePacking direct = pack_spheres(bunny, o);
+    INFO("coverage with look-ahead " << ahead.coverage() << ", without " << direct.coverage());
+    CHECK(ahead.coverage() > direct.coverage());
+    // The greedy order is (almost) largest first either way: radii non-increasing up to the polish step.
+    std::size_t rises = 0;
+    for (std::size_t i = 1; i < ahead.spheres.size(); ++i) rises += ahead.spheres[i].radius > ahead.spheres[i - 1].radius * 1.05;
+    CHECK(rises < ahead.spheres.size() / 10);
+#if defined(CDKIT_HAS_TBB) && CDKIT_HAS_TBB
+    o.lookahead = PackingOptions{}.lookahead;
+    o.depth_calibration = true;
+    const SpherePacking many = pack_spheres(bunny, o);
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const SpherePacking single = pack_spheres(bunny, o);
+    REQUIRE(single.spheres.size() == many.spheres.size());
+    for (std::size_t i = 0; i < many.spheres.size(); ++i) {
+        CHECK(single.spheres[i].center == many.spheres[i].center);
+        CHECK(single.spheres[i].radius == many.spheres[i].radius);
+        CHECK(single.cell_weights[i] == many.cell_weights[i]);
+    }
+    CHECK(single.calibration_strength == many.calibration_strength);
+#endif
 }

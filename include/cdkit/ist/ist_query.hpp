@@ -15,7 +15,8 @@
 /// min(vol(a), vol(b), lens(bounding spheres)) — inner spheres of one object are disjoint, so their
 /// overlap with the other's is at most either side's sphere volume and lies in both bounding spheres —
 /// giving a guaranteed interval [volume_lower, volume_upper] and an estimate in between (the bounding
-/// spheres' lens scaled by both subtrees' fill ratios).
+/// spheres' lens scaled by both subtrees' fill ratios). volume_upper is the least such sum over the
+/// expansion, so the interval never widens as the budget grows.
 ///
 /// sphere_distance(): branch and bound on |c_a − c_b| − r_a − r_b, nearer pairs first; the distance
 /// between the two inner sphere sets (≥ the meshes' distance, by at most the packings' gap at the

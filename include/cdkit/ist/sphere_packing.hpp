@@ -11,10 +11,14 @@
 ///     placed so far); a lazy max-heap holds the samples by upper bounds of it, and a sample's surface
 ///     distance is measured (PointMeshDistance) only when it reaches the top, and only as far as needed
 ///     to tell whether it stays there.
-///  3. The best sample is refined by a local pattern search (26 directions, steps h/2 down to h/128) that
-///     maximises the exact clearance (moving towards the inner Voronoi node of surface + spheres), a
-///     sphere with that clearance as radius is placed, and the samples within twice its radius are updated
-///     (those it swallows die).
+///  3. The best sample is refined towards the inner Voronoi node of surface + spheres (the local maximum of
+///     the exact clearance): a local pattern search (26 directions, steps h/2 down to h/128), then an
+///     ascent along the steepest direction of the nearly active constraints (the least-norm point of the
+///     hull of their gradients; Demyanov and Malozemov, "Introduction to Minimax", 1974), which follows the
+///     Voronoi edges that fixed directions miss. With the look-ahead (PackingOptions::lookahead), samples
+///     rank at clearance + κh until refined (by the ascent alone), and the refined ones by their refined
+///     clearance, so that the largest sphere found goes first. A sphere with that clearance as radius is
+///     placed, and the samples within twice its radius are updated (those it swallows die).
 ///  4. Repeat until the sphere count or the target coverage is reached, or no sample has room left.
 /// The surface searches are seeded with a neighbouring sample's closest triangle and stop as soon as the
 /// comparison they serve is decided (PointMeshDistance::PointMeshQuery); these shortcuts do not change the
@@ -68,6 +72,11 @@ struct PackingOptions {
     /// Finer grids find smaller gaps (more coverage per sphere) at a cubic cost in time and memory.
     int grid_resolution = 0;
     std::uint64_t seed = 1;  ///< jitter of the sample grid
+    /// Look-ahead κ of the greedy order, in sample spacings, in [0, 4]: a sample not yet refined ranks at its
+    /// clearance + κ·spacing (the gap near it may be larger than at the sample itself) and is refined before
+    /// it competes with the refined ones, so each sphere placed is the largest found, not the one at the best
+    /// sample. 0 places the refinement of the best sample at once (faster, less coverage).
+    double lookahead = 0.5;
     /// Rescale the cell weights so that the weighted sphere volume in each layer of depth below the surface
     /// matches the mesh's (see the file comment); false keeps the plain Voronoi cell weights. Costs one
     /// distance query per sample near the surface at build time; queries are unaffected.
