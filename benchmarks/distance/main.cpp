@@ -68,7 +68,7 @@ Mat3<double> random_rotation(std::mt19937_64& rng) {
 
 struct Answer {
     double distance;
-    std::uint64_t bv_tests, tri_tests;
+    std::uint64_t bv_tests, tri_tests, tri_skips;
 };
 
 struct Method {
@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
         }
     }
     std::FILE* csv = opt.csv.empty() ? nullptr : std::fopen(opt.csv.c_str(), "w");
-    if (csv) std::fprintf(csv, "mesh,triangles,delta,method,poses,median_us,p99_us,max_us,ratio_vs_fcl_rss,ratio_vs_fcl_obbrss,bv_tests,tri_tests,max_err_vs_exact,max_err_vs_brute,brute_poses\n");
+    if (csv) std::fprintf(csv, "mesh,triangles,delta,method,poses,median_us,p99_us,max_us,ratio_vs_fcl_rss,ratio_vs_fcl_obbrss,bv_tests,tri_tests,max_err_vs_exact,max_err_vs_brute,brute_poses,tri_skips\n");
     std::printf("cdkit_bench_distance: P2 poses, %d rotations, %d reps per pose (thread CPU time of the batch / reps)\n", opt.rotations, opt.reps);
     const double deltas[] = {0.005, 0.01, 0.05, 0.2};
 
@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
             auto cd = [&](const auto& model, double rel) {
                 return [&, rel](std::size_t i) {
                     const auto res = distance(model, Transform<double>(), model, P[i], {rel, 0.0});
-                    return Answer{res.distance, res.stats.bv_tests, res.stats.primitive_tests};
+                    return Answer{res.distance, res.stats.bv_tests, res.stats.primitive_tests, res.stats.primitive_skips};
                 };
             };
             auto fd = [&](std::vector<fcl::CollisionObjectd>& A, std::vector<fcl::CollisionObjectd>& B, double rel) {
@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
                     fcl::DistanceRequestd req(true, false, rel, 0.0);
                     fcl::DistanceResultd res;
                     fcl::distance(&A[i], &B[i], req, res);
-                    return Answer{res.min_distance, 0, 0};
+                    return Answer{res.min_distance, 0, 0, 0};
                 };
             };
             std::vector<Method> methods = {
@@ -226,12 +226,12 @@ int main(int argc, char** argv) {
             for (std::size_t i = 0; i < nb; ++i) brute[i] = distance_brute_force(*mesh, Transform<double>(), *mesh, P[i]).distance;
 
             std::printf("\n-- %s  delta = %+.3f  (%zu poses, brute-force-checked poses: %zu)\n", name.c_str(), deltas[d], P.size(), nb);
-            std::printf("%-22s %10s %10s %10s %9s %9s %10s %10s %12s %12s\n", "method", "median_us", "p99_us", "max_us",
-                        "R_rss", "R_obbrss", "bv_tests", "tri_tests", "maxerr_exact", "maxerr_brute");
+            std::printf("%-22s %10s %10s %10s %9s %9s %10s %10s %9s %12s %12s\n", "method", "median_us", "p99_us", "max_us",
+                        "R_rss", "R_obbrss", "bv_tests", "tri_tests", "tri_skips", "maxerr_exact", "maxerr_brute");
             std::vector<double> medians(methods.size());
             for (std::size_t m = 0; m < methods.size(); ++m) {
                 std::vector<double> us(P.size());
-                double err_exact = 0, err_brute = 0, bv = 0, tri = 0;
+                double err_exact = 0, err_brute = 0, bv = 0, tri = 0, skips = 0;
                 for (std::size_t i = 0; i < P.size(); ++i) {
                     Answer ans{};
                     const auto b0 = Clock::now();
@@ -239,6 +239,7 @@ int main(int argc, char** argv) {
                     us[i] = seconds_since(b0) * 1e6 / opt.reps;
                     bv += double(ans.bv_tests);
                     tri += double(ans.tri_tests);
+                    skips += double(ans.tri_skips);
                     err_exact = std::max(err_exact, std::abs(ans.distance - exact[i]));
                     if (i < nb) err_brute = std::max(err_brute, std::abs(ans.distance - brute[i]));
                 }
@@ -250,14 +251,14 @@ int main(int argc, char** argv) {
                 }
                 auto fmt = [](double x) { return x > 0 ? std::to_string(x).substr(0, 5) + "x" : std::string("-"); };
                 const double n = double(P.size());
-                std::printf("%-22s %10.1f %10.1f %10.1f %9s %9s %10.0f %10.0f %12.3g %12.3g\n", methods[m].name.c_str(),
+                std::printf("%-22s %10.1f %10.1f %10.1f %9s %9s %10.0f %10.0f %9.0f %12.3g %12.3g\n", methods[m].name.c_str(),
                             medians[m], percentile(us, 0.99), percentile(us, 1.0), fmt(ratio).c_str(), fmt(ratio2).c_str(),
-                            bv / n, tri / n, err_exact, nb ? err_brute : std::nan(""));
+                            bv / n, tri / n, skips / n, err_exact, nb ? err_brute : std::nan(""));
                 if (csv)
-                    std::fprintf(csv, "%s,%zu,%g,%s,%zu,%.3f,%.3f,%.3f,%.4f,%.4f,%.0f,%.0f,%.3g,%.3g,%zu\n", name.c_str(),
+                    std::fprintf(csv, "%s,%zu,%g,%s,%zu,%.3f,%.3f,%.3f,%.4f,%.4f,%.0f,%.0f,%.3g,%.3g,%zu,%.1f\n", name.c_str(),
                                  mesh->num_triangles(), deltas[d], methods[m].name.c_str(), P.size(), medians[m],
                                  percentile(us, 0.99), percentile(us, 1.0), ratio, ratio2, bv / n, tri / n, err_exact,
-                                 nb ? err_brute : std::nan(""), nb);
+                                 nb ? err_brute : std::nan(""), nb, skips / n);
             }
         }
     }

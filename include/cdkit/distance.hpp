@@ -22,11 +22,15 @@
 /// The tightest volume for this is Rss (a rectangle swept by a sphere); Obb and Aabb work too.
 /// A leaf pair whose bound is positive holds disjoint triangles (the bound never exceeds their computed
 /// distance), so its triangle pairs skip triangle_distance()'s exact intersection test, with the same result.
+/// Such a pair is skipped altogether when a projection gap of the two triangles (the 11 separating axes,
+/// bvh/detail/distance_triangle_gap.hpp) already exceeds the threshold: it could not lower the answer.
+/// On the bunny benchmark that skips 43–59% of the triangle pairs (docs/distance.md).
 /// Queries are const and thread-safe, and never throw (except std::bad_alloc when the open-pair heap grows:
 /// a thread_local vector whose storage the thread's later queries reuse, so no allocation per query).
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bv/detail/distance_rss_pair.hpp"
+#include "cdkit/bvh/detail/distance_triangle_gap.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/bvh/traverse.hpp"
 #include "cdkit/narrowphase/triangle_distance.hpp"
@@ -50,6 +54,7 @@ template <class S = double> struct DistanceRequest {
 struct DistanceStats {
     std::uint64_t bv_tests = 0;        ///< BV lower-bound evaluations
     std::uint64_t primitive_tests = 0; ///< triangle_distance evaluations
+    std::uint64_t primitive_skips = 0; ///< triangle pairs skipped by a projection gap (bvh/detail/distance_triangle_gap.hpp)
 };
 
 /// Result of distance(). Points are in the world frame.
@@ -65,21 +70,29 @@ template <class S> struct DistanceResult {
 
 namespace detail {
 /// Distance of triangle ta of A and tb of B (B carried to A's frame); records it in `out` (A's frame
-/// points, converted to world at the end) when strictly below the best so far.
+/// points, converted to world at the end) when strictly below the best so far. `disjoint`: the triangles
+/// are known to be disjoint; then the pair is skipped without measuring it when a projection gap shows
+/// its distance to be above `skip_from` (it could not become the answer).
 template <class S>
 inline void distance_triangle_pair(const TriangleMesh<S>& ma, Index ta, const TriangleMesh<S>& mb, Index tb,
-                                   const Transform<S>& b_to_a, DistanceResult<S>& out, bool disjoint = false) noexcept {
+                                   const Transform<S>& b_to_a, DistanceResult<S>& out, bool disjoint = false,
+                                   S skip_from = std::numeric_limits<S>::infinity()) noexcept {
     const auto& A = ma.triangles[ta];
     const auto& B = mb.triangles[tb];
-    ++out.stats.primitive_tests;
     TriangleDistance<S> d;
     if (disjoint) {
         // What triangle_distance computes for disjoint triangles, without its exact intersection test.
         const Vec3<S> P[3] = {ma.vertices[A[0]], ma.vertices[A[1]], ma.vertices[A[2]]};
         const Vec3<S> Q[3] = {to_frame_a(b_to_a, mb.vertices[B[0]]), to_frame_a(b_to_a, mb.vertices[B[1]]),
                               to_frame_a(b_to_a, mb.vertices[B[2]])};
+        if (triangle_gap_reaches(P, Q, skip_from)) {
+            ++out.stats.primitive_skips;
+            return;
+        }
+        ++out.stats.primitive_tests;
         d.distance = std::sqrt(triangle_feature_dist2(P, Q, d.point_on_p, d.point_on_q));
     } else {
+        ++out.stats.primitive_tests;
         d = triangle_distance(ma.vertices[A[0]], ma.vertices[A[1]], ma.vertices[A[2]], to_frame_a(b_to_a, mb.vertices[B[0]]),
                               to_frame_a(b_to_a, mb.vertices[B[1]]), to_frame_a(b_to_a, mb.vertices[B[2]]));
     }
@@ -211,11 +224,12 @@ template <class BV, class M>
         const BvhNode<BV>& y = nb[it.b];
         const bool xl = x.is_leaf(), yl = y.is_leaf();
         if (xl && yl) {
-            // A positive bound proves the leaves' triangles disjoint: skip the exact intersection test.
+            // A positive bound proves the leaves' triangles disjoint: skip the exact intersection test, and
+            // skip pairs that a projection gap shows to be no nearer than the threshold.
             const bool disjoint = it.bound > S(0);
             for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
                 for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
-                    detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out, disjoint);
+                    detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out, disjoint, threshold());
             if (heap.empty() || out.distance == S(0)) break;  // 0: intersecting, nothing can be nearer
             it = detail::heap_pop(heap);
             continue;

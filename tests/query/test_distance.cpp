@@ -286,6 +286,59 @@ TEMPLATE_TEST_CASE("distance: a leaf pair with a positive bound skips the inters
     CHECK(separated >= test::scaled(3000, 300) / 3);
 }
 
+TEMPLATE_TEST_CASE("distance: the triangle gap test skips only pairs at least the threshold apart", "[distance]", float,
+                   double) {
+    // distance() skips a leaf pair's 15 feature candidates when triangle_gap_reaches() says the pair is at
+    // least the current answer apart. It must never say so for a threshold just above the distance that
+    // triangle_distance computes (or the answer could change), and it must say so often at half of it (or it
+    // would skip nothing). Random pairs near and far, slivers, parallel shifted copies, far from the origin.
+    using S = TestType;
+    std::mt19937_64 rng(29);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int separated = 0, skipped_at_half = 0;
+    const double offset = std::is_same_v<S, float> ? 1e3 : 1e6;
+    for (int k = 0; k < test::scaled(4000, 400); ++k) {
+        Vec3<double> p[3], q[3];
+        for (auto& v : p) v = Vec3<double>(u(rng), u(rng), u(rng));
+        const int kind = k % 5;
+        if (kind == 3) {  // a parallel copy, shifted along the normal (and a little sideways)
+            const Vec3<double> n = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+            const Vec3<double> shift = n * (0.01 + 0.5 * std::abs(u(rng))) + Vec3<double>(u(rng), u(rng), u(rng)) * 0.1;
+            for (int i = 0; i < 3; ++i) q[i] = p[i] + shift;
+        } else {
+            const Transform<double> pose = random_pose<double>(rng, kind == 0 ? 0.5 : 2.5);
+            for (int i = 0; i < 3; ++i) q[i] = pose * Vec3<double>(u(rng), u(rng), u(rng));
+        }
+        if (kind == 1) p[2] = p[0] + (p[1] - p[0]) * 0.3 + Vec3<double>(1e-9, 0, 0);  // a sliver
+        if (kind == 2) q[1] = q[0];                                                     // a segment
+        if (kind == 4)
+            for (int i = 0; i < 3; ++i) p[i].x() += offset, q[i].x() += offset;
+        const Vec3<S> P[3] = {p[0].cast<S>(), p[1].cast<S>(), p[2].cast<S>()};
+        const Vec3<S> Q[3] = {q[0].cast<S>(), q[1].cast<S>(), q[2].cast<S>()};
+        const S d = triangle_distance(P[0], P[1], P[2], Q[0], Q[1], Q[2]).distance;
+        if (!(d > S(0))) continue;
+        ++separated;
+        INFO("pair " << k << " kind " << kind << " distance " << d);
+        REQUIRE(!detail::triangle_gap_reaches(P, Q, std::nextafter(d, std::numeric_limits<S>::infinity())));
+        REQUIRE(!detail::triangle_gap_reaches(P, Q, std::numeric_limits<S>::infinity()));
+        skipped_at_half += detail::triangle_gap_reaches(P, Q, d / 2);
+        // Through distance_triangle_pair: a skip leaves the result as it was, no skip records the same bits.
+        TriangleMesh<S> a, b;
+        a.vertices = {P[0], P[1], P[2]}, b.vertices = {Q[0], Q[1], Q[2]};
+        a.triangles = b.triangles = {{0, 1, 2}};
+        DistanceResult<S> got;
+        detail::distance_triangle_pair(a, 0, b, 0, Transform<S>(), got, true, std::nextafter(d, std::numeric_limits<S>::infinity()));
+        REQUIRE(got.distance == d);
+        CHECK(got.stats.primitive_skips == 0);
+    }
+    CHECK(separated >= test::scaled(4000, 400) * 3 / 5);
+    CHECK(skipped_at_half >= separated / 2);
+    // Non-positive thresholds: nothing is nearer, every pair may be skipped.
+    const Vec3<S> P[3] = {Vec3<S>(0, 0, 0), Vec3<S>(1, 0, 0), Vec3<S>(0, 1, 0)};
+    CHECK(detail::triangle_gap_reaches(P, P, S(0)));
+    CHECK(detail::triangle_gap_reaches(P, P, S(-1)));
+}
+
 TEST_CASE("distance over RSS trees prunes: far fewer triangle pairs than brute force", "[distance]") {
     // Two spheres of 2·16·24 triangles apart: best-first order with tight bounds measures a tiny share of pairs.
     const MeshModel<Rss<double>> a(test::uv_sphere<double>(0.5, 16, 24));

@@ -96,8 +96,9 @@ template <class S>
             const Node& x = na[it.a];
             const Node& y = nb[it.b];
             if (x.is_leaf() && y.is_leaf()) {
-                // A positive bound proves the triangles disjoint: no exact intersection test (same result).
-                detail::distance_triangle_pair(ma, x.index(), mb, y.index(), b_to_a, out, it.bound > S(0));
+                // A positive bound proves the triangles disjoint: no exact intersection test, and no
+                // measurement when a projection gap reaches the threshold (same result, as in distance()).
+                detail::distance_triangle_pair(ma, x.index(), mb, y.index(), b_to_a, out, it.bound > S(0), threshold());
                 if (out.distance == S(0)) break;  // intersecting: nothing can be nearer
             } else {
                 // The children's bounds go on the heap; the smallest comes back first.
