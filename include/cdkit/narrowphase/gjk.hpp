@@ -767,17 +767,17 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
         }
         return;
     }
+    if (st == GjkStatus::intersecting) {  // no witness points: the result reports none for an overlap
+        r.status = GjkStatus::intersecting;
+        r.distance = S(0);
+        return;
+    }
     // Witness points on the cores, then push them out by the margins along the normal.
-    if (st != GjkStatus::intersecting) SimplexSolver<S>::sliver_weights(r.simplex, v);
+    SimplexSolver<S>::sliver_weights(r.simplex, v);
     Vec3<S> pa = Vec3<S>::Zero(), pb = Vec3<S>::Zero();
     for (int i = 0; i < r.simplex.size; ++i) {
         pa += r.simplex.lambda[std::size_t(i)] * r.simplex.v[std::size_t(i)].a;
         pb += r.simplex.lambda[std::size_t(i)] * r.simplex.v[std::size_t(i)].b;
-    }
-    if (st == GjkStatus::intersecting) {
-        r.status = GjkStatus::intersecting;
-        r.distance = S(0);
-        return;
     }
     S core = v.norm();
     Vec3<S> n = core > S(0) ? Vec3<S>(-v / core) : Vec3<S>::Zero();  // from A towards B
@@ -1017,7 +1017,12 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
         const int old_size = s.size++;
         if (s.size == 4) Solver::tetrahedron_newest_last(s, sel);
         else Solver::select(s, sel);
-        if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
+        if (sel.inside) {  // overlap proven: the result gjk_finish would build, without its call
+            r.iterations = it;
+            r.status = GjkStatus::intersecting;
+            r.distance = S(0);
+            return;
+        }
         const S nvv = norm2(sel.v);
         if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
         if (nvv <= tf * tf * size2) { apply_lean(sel); v = sel.v; status = GjkStatus::touching; break; }
