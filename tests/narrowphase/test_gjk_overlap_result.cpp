@@ -9,6 +9,7 @@
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/gjk.hpp>
 
+#include "mesh_factory.hpp"
 #include "test_common.hpp"
 
 #include <random>
@@ -17,12 +18,7 @@ using namespace cdkit;
 
 namespace {
 
-Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    q.normalize();
-    return q.toRotationMatrix();
-}
+using test::random_rotation;
 
 /// Places b at signed distance `gap` from a (along the distance query's normal) and checks the three paths.
 template <class A, class B> void check_overlaps(const A& a, const B& b, std::mt19937_64& rng, int& loop_proofs) {
