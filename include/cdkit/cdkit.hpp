@@ -40,6 +40,7 @@
 #include "cdkit/distance.hpp"
 #include "cdkit/query.hpp"
 #include "cdkit/ist/inner_sphere_tree.hpp"
+#include "cdkit/ist/intersection_volume.hpp"
 #include "cdkit/ist/ist_query.hpp"
 #include "cdkit/ist/penalty_force.hpp"
 #include "cdkit/ist/serialize.hpp"
