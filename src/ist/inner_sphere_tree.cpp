@@ -204,7 +204,7 @@ InnerSphereTree::InnerSphereTree(SpherePacking packing, const IstBuildOptions& o
     stats_.spheres = spheres_.size();
     stats_.nodes = nodes_.size();
     stats_.depth = depth;
-    stats_.memory_bytes = nodes_.size() * sizeof(IstNode) + spheres_.size() * (sizeof(InnerSphere) + sizeof(double));
+    derive_cell_spheres();
     stats_.seconds_build = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -229,8 +229,14 @@ InnerSphereTree InnerSphereTree::from_parts(std::vector<InnerSphere> spheres, st
     t.stats_.spheres = t.spheres_.size();
     t.stats_.nodes = t.nodes_.size();
     t.stats_.depth = depth;
-    t.stats_.memory_bytes = t.nodes_.size() * sizeof(IstNode) + t.spheres_.size() * (sizeof(InnerSphere) + sizeof(double));
+    t.derive_cell_spheres();
     return t;
+}
+
+void InnerSphereTree::derive_cell_spheres() {
+    cell_radii_.resize(spheres_.size());
+    for (std::size_t i = 0; i < spheres_.size(); ++i) cell_radii_[i] = cell_sphere_radius(spheres_[i].radius, weights_[i]);
+    stats_.memory_bytes = nodes_.size() * sizeof(IstNode) + spheres_.size() * (sizeof(InnerSphere) + 2 * sizeof(double));
 }
 
 void InnerSphereTree::validate(const std::string& source) const {

@@ -80,8 +80,8 @@ void volume_descent(const InnerSphereTree& a, const InnerSphereTree& b, const Fr
                     PenetrationVolumeResult& out, std::vector<PairKey>* far, OnLeaf&& on_leaf) {
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
-    const auto& wa = a.cell_weights();
-    const auto& wb = b.cell_weights();
+    const auto& ca = a.cell_radii();
+    const auto& cb = b.cell_radii();
     double exact = 0, calibrated = 0;
     detail::SmallStack<PairKey, 256> stack;
     std::array<PairKey, 16> kids, far_kids;  // out-degree ≤ 16 (validated)
@@ -107,7 +107,7 @@ void volume_descent(const InnerSphereTree& a, const InnerSphereTree& b, const Fr
             const double v = sphere_intersection_volume(x.radius, y.radius, d);
             if (v > 0) {
                 exact += v;
-                calibrated += v * wa[x.first] * wb[y.first];
+                calibrated += sphere_intersection_volume(ca[x.first], cb[y.first], d);
                 if (collect_pairs) out.pairs.push_back({x.first, y.first, v});
                 if constexpr (keep_far) far->clear();
             }
@@ -148,15 +148,16 @@ void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const
                        PenetrationVolumeResult& out, OnApart&& on_apart) {
     const auto& na = a.nodes();
     const auto& nb = b.nodes();
-    const auto& wa = a.cell_weights();
-    const auto& wb = b.cell_weights();
+    const auto& ca = a.cell_radii();
+    const auto& cb = b.cell_radii();
     double exact = 0, calibrated = 0;
     auto leaf_pair = [&](const IstNode& x, const IstNode& y, const Vec3d& cy) {
         ++out.stats.leaf_pairs;
-        const double v = sphere_intersection_volume(x.radius, y.radius, (x.center - cy).norm());
+        const double d = (x.center - cy).norm();
+        const double v = sphere_intersection_volume(x.radius, y.radius, d);
         if (v <= 0) return;
         exact += v;
-        calibrated += v * wa[x.first] * wb[y.first];
+        calibrated += sphere_intersection_volume(ca[x.first], cb[y.first], d);
         if (request.collect_pairs) out.pairs.push_back({x.first, y.first, v});
     };
     struct Item {

@@ -123,8 +123,8 @@ struct SampleLattice {
 /// the copy B = Q·(A − c) + c + s·u (c: the box centre) comes in along −u until its samples first meet A's
 /// (per column along u, on a lateral grid of the sample spacing), then `depth` further; the translation is
 /// rounded to lattice steps. The reference volume counts the samples inside both (a lattice sample maps to a
-/// lattice sample, so no inside test is needed); the estimate is the query's own, Σ lens · w_a · w_b over
-/// the overlapping pairs of inner spheres. α in [0, 1] zeroes the mean relative error over the contacts
+/// lattice sample, so no inside test is needed); the estimate is the query's own: over the overlapping pairs
+/// of inner spheres, Σ lens volume of their cell spheres (radius r·∛w). α in [0, 1] zeroes the mean relative error over the contacts
 /// that hold at least 32 samples, by bisection (the estimate grows with α; clamped to [0, 1]); without
 /// such a contact (a very coarse lattice), fallback_strength. `blend(α)`: the weights at strength α.
 template <class Blend>
@@ -142,7 +142,7 @@ double self_contact_strength(const std::vector<InnerSphere>& spheres, const Samp
     constexpr int n_contacts = 64;
     struct Pair {
         std::uint32_t a, b;
-        double lens;
+        double d;  // centre distance
     };
     struct Contact {
         std::size_t samples = 0;
@@ -266,8 +266,8 @@ double self_contact_strength(const std::vector<InnerSphere>& spheres, const Samp
                     for (int x = g0[0]; x <= g1[0]; ++x) grid[key({x, y, z})].push_back(a);
         }
         auto add = [&](std::uint32_t a, std::uint32_t b, const Vec3d& cb, double rb) {
-            const double lens = sphere_intersection_volume(spheres[a].radius, rb, (spheres[a].center - cb).norm());
-            if (lens > 0) c.pairs.push_back({a, b, lens});
+            const double d = (spheres[a].center - cb).norm();
+            if (d < spheres[a].radius + rb) c.pairs.push_back({a, b, d});
         };
         for (std::size_t b = 0; b < spheres.size(); ++b) {
             const Vec3d cb = to_b(spheres[b].center);
@@ -311,12 +311,14 @@ double self_contact_strength(const std::vector<InnerSphere>& spheres, const Samp
     const double per_sample = L.h * L.h * L.h;
     auto mean_error = [&](double alpha) {
         const std::vector<double> w = blend(alpha);
+        std::vector<double> cell(spheres.size());
+        for (std::size_t i = 0; i < spheres.size(); ++i) cell[i] = cell_sphere_radius(spheres[i].radius, w[i]);
         double sum = 0;
         int used = 0;
         for (const Contact& c : contacts) {
             if (c.samples < 32) continue;
             double est = 0;
-            for (const Pair& q : c.pairs) est += q.lens * w[q.a] * w[q.b];
+            for (const Pair& q : c.pairs) est += sphere_intersection_volume(cell[q.a], cell[q.b], q.d);
             sum += est / (double(c.samples) * per_sample) - 1, ++used;
         }
         return used ? sum / used : std::numeric_limits<double>::quiet_NaN();

@@ -139,6 +139,11 @@ TEST_CASE("serialization: corrupt, truncated, foreign and missing files raise cd
     version[8] = 99;
     write(version);
     expect("version");
+    // Version 1 (weights calibrated for the former weight-product estimate) is refused, not misread.
+    REQUIRE(good[8] == 2);
+    version[8] = 1;
+    write(version);
+    expect("format version 1");
     write({});
     expect("too short");
     std::filesystem::remove(path);

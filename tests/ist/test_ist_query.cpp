@@ -67,6 +67,15 @@ TEST_CASE("penetration volume equals brute force over all sphere pairs", "[ist][
         CHECK(got == std::set<std::pair<std::uint32_t, std::uint32_t>>(bf.pairs.begin(), bf.pairs.end()));
         CHECK(sum == Approx(r.volume).epsilon(1e-12).margin(1e-15));
         CHECK(r.calibrated >= r.volume);
+        // The estimate: the cell spheres' lens volumes (radius r·∛w) over the same pairs.
+        double cells = 0;
+        for (const auto& p : bf.pairs) {
+            const double d = (pa * t.spheres()[p.first].center - pb * t.spheres()[p.second].center).norm();
+            const double ra = t.spheres()[p.first].radius * std::cbrt(t.cell_weights()[p.first]);
+            const double rb = t.spheres()[p.second].radius * std::cbrt(t.cell_weights()[p.second]);
+            cells += sphere_intersection_volume(ra, rb, d);
+        }
+        CHECK(r.calibrated == Approx(cells).epsilon(1e-10).margin(1e-15));
         // Symmetric in A and B.
         const auto s = penetration_volume(t, pb, t, pa);
         CHECK(s.volume == Approx(r.volume).epsilon(1e-10).margin(1e-15));

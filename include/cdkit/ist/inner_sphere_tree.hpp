@@ -12,6 +12,11 @@
 ///
 /// Storage is one flat node array; the children of a node are contiguous. A built tree is immutable and
 /// every query on it is const and thread-safe.
+///
+/// Cell spheres: each inner sphere also stands for its cell (the part of the mesh nearest to it, whose volume
+/// is its cell weight times its own): the ball of that volume about the same centre, radius r·∛w, is its cell
+/// sphere. The penetration-volume estimate (`calibrated`, ist_query.hpp) sums the lens volumes of the cell
+/// spheres of overlapping inner-sphere pairs. The radii are derived from the spheres and weights (not stored).
 
 #include "cdkit/ist/sphere_packing.hpp"
 
@@ -45,7 +50,7 @@ struct IstStats {
     std::size_t spheres = 0;
     std::size_t nodes = 0;
     std::size_t depth = 0;          ///< levels (a single leaf: 1)
-    std::size_t memory_bytes = 0;   ///< nodes + spheres + weights
+    std::size_t memory_bytes = 0;   ///< nodes + spheres + weights + cell radii
     double seconds_build = 0;       ///< hierarchy build alone
 };
 
@@ -65,6 +70,8 @@ public:
     [[nodiscard]] const std::vector<InnerSphere>& spheres() const noexcept { return spheres_; }
     [[nodiscard]] const std::vector<double>& cell_weights() const noexcept { return weights_; }
     [[nodiscard]] const std::vector<IstNode>& nodes() const noexcept { return nodes_; }
+    /// Per sphere: the radius r·∛w of its cell sphere (see the file comment); ≥ its radius.
+    [[nodiscard]] const std::vector<double>& cell_radii() const noexcept { return cell_radii_; }
     [[nodiscard]] bool empty() const noexcept { return nodes_.empty(); }
     [[nodiscard]] double mesh_volume() const noexcept { return mesh_volume_; }
     [[nodiscard]] double sphere_volume() const noexcept { return nodes_.empty() ? 0 : nodes_[0].volume; }
@@ -79,9 +86,11 @@ public:
     void validate(const std::string& source = "<inner sphere tree>") const;
 
 private:
+    void derive_cell_spheres();  // fills cell_radii_ and stats_.memory_bytes
     std::vector<InnerSphere> spheres_;
     std::vector<double> weights_;
     std::vector<IstNode> nodes_;
+    std::vector<double> cell_radii_;  // derived from spheres_ and weights_ (derive_cell_spheres)
     double mesh_volume_ = 0;
     int out_degree_ = 8;
     IstStats stats_;

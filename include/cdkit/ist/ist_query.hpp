@@ -7,8 +7,10 @@
 /// the larger node, depth first with the deepest-overlapping children first. At two leaves the intersection (lens) volume of the two inner spheres is added. The
 /// penetration volume is Σ lens volumes over all overlapping inner-sphere pairs, which equals the volume
 /// of (∪ inner spheres of A) ∩ (∪ inner spheres of B) since the spheres of one object do not overlap.
-/// It underestimates the mesh intersection volume by the empty space of the packings; `calibrated` also
-/// weights each pair by the two spheres' cell weights (sphere_packing.hpp) to correct for it.
+/// It underestimates the mesh intersection volume by the empty space of the packings; `calibrated` corrects
+/// for it: over the same overlapping pairs it sums the lens volumes of the two spheres' cell spheres (each
+/// sphere grown to the volume of its cell, radius r·∛w with w its cell weight: inner_sphere_tree.hpp), which
+/// puts the empty space back where it is, around the spheres and towards the surface.
 ///
 /// Time-critical mode (max_node_tests > 0): the pairs are expanded best first, largest bound first, and
 /// the query stops at the budget. Every unexpanded pair (a, b) contributes at most
@@ -80,7 +82,7 @@ struct PenetrationVolumeResult {
     double volume = 0;           ///< Σ intersection volumes of overlapping inner-sphere pairs (estimate if incomplete)
     double volume_lower = 0;     ///< guaranteed lower bound of the exact (full-traversal) volume
     double volume_upper = 0;     ///< guaranteed upper bound of it
-    double calibrated = 0;       ///< Σ volume · w_a · w_b (cell weights): estimate of the meshes' intersection volume
+    double calibrated = 0;       ///< Σ lens(cell sphere a, cell sphere b) over the pairs: estimate of the meshes' intersection volume
     std::vector<OverlappingSpheres> pairs;  ///< every overlapping pair found (all of them when complete)
     IstQueryStats stats;
     [[nodiscard]] bool overlapping() const noexcept { return volume_upper > 0; }

@@ -2,11 +2,13 @@
 /// \file Saving and loading a built InnerSphereTree (the packing is the slow part; a stored tree loads in
 /// milliseconds).
 ///
-/// Format (little-endian, version 1): the 8-byte magic "CDKITIST", u32 version, u32 byte-order tag
+/// Format (little-endian, version 2): the 8-byte magic "CDKITIST", u32 version, u32 byte-order tag
 /// 0x01020304, u64 payload size, u64 FNV-1a checksum of the payload, then the payload: i32 out-degree,
 /// f64 mesh volume, u64 sphere count, u64 node count, the spheres (4 × f64), the cell weights (f64), the
 /// nodes (5 × f64, 2 × u32). Loading checks the magic, version, byte order, size and checksum, then
 /// InnerSphereTree::validate()s the result; any failure raises cdkit::Error naming the file.
+/// Version 2 has version 1's layout; the cell weights' calibration strength is derived for the cell-sphere
+/// estimate (ist_query.hpp) instead of version 1's weight product, so version 1 files are refused (re-pack).
 
 #include "cdkit/ist/inner_sphere_tree.hpp"
 
@@ -16,7 +18,7 @@
 
 namespace cdkit {
 
-inline constexpr std::uint32_t kInnerSphereTreeFormatVersion = 1;
+inline constexpr std::uint32_t kInnerSphereTreeFormatVersion = 2;
 
 /// The tree as bytes (the file format above).
 [[nodiscard]] std::vector<std::uint8_t> serialize_inner_sphere_tree(const InnerSphereTree& tree);
