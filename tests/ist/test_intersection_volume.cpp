@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -193,6 +194,16 @@ TEST_CASE("intersection volume: bad input is refused with the mesh's name", "[is
     const InsideTest in(box);
     CHECK_THROWS_AS(mesh_intersection_volume(in, in, {.grid = 0}), Error);
     CHECK_THROWS_AS(mesh_intersection_volume(in, in, {.passes = 0}), Error);
+    // The InsideTest overload does not check closedness, but never answers for non-finite coordinates.
+    auto broken = box;
+    broken.vertices[3].y() = std::numeric_limits<double>::infinity();
+    broken.source = "broken_box.obj";
+    try {
+        (void)mesh_intersection_volume(in, InsideTest(broken));
+        FAIL("a non-finite vertex was accepted");
+    } catch (const Error& e) {
+        CHECK_THAT(e.what(), Catch::Contains("broken_box.obj") && Catch::Contains("non-finite"));
+    }
     // An empty mesh has no volume to share.
     CHECK(mesh_intersection_volume(in, InsideTest{}, {}).volume == 0);
 }

@@ -90,7 +90,8 @@ inline void bounding_box(const TriangleMesh<double>& m, Vec3<double>& lo, Vec3<d
 
 /// vol(A ∩ B) of two closed meshes given in one frame, as InsideTest objects (see the file comment). The
 /// meshes' closedness is the caller's concern (check_closed_mesh()); the other overload checks it.
-/// Throws cdkit::Error for options out of range, or when a line keeps grazing edges after 64 redraws.
+/// Throws cdkit::Error for options out of range, for non-finite vertex coordinates, or when a line keeps
+/// grazing edges after 64 redraws.
 [[nodiscard]] inline IntersectionVolume mesh_intersection_volume(const InsideTest& a, const InsideTest& b,
                                                                  const IntersectionVolumeOptions& options = {}) {
     if (options.grid < 1 || options.grid > 16384 || options.passes < 1 || options.passes > 1024)
@@ -102,6 +103,9 @@ inline void bounding_box(const TriangleMesh<double>& m, Vec3<double>& lo, Vec3<d
     Vec3<double> alo, ahi, blo, bhi;
     detail::bounding_box(a.mesh(), alo, ahi);
     detail::bounding_box(b.mesh(), blo, bhi);
+    const std::string non_finite = "non-finite vertex coordinates (NaN or Inf)";
+    if (!(alo.allFinite() && ahi.allFinite())) throw Error(a.mesh().source, "vertices", non_finite);
+    if (!(blo.allFinite() && bhi.allFinite())) throw Error(b.mesh().source, "vertices", non_finite);
     const double y0 = std::max(alo.y(), blo.y()), y1 = std::min(ahi.y(), bhi.y());
     const double z0 = std::max(alo.z(), blo.z()), z1 = std::min(ahi.z(), bhi.z());
     if (!(y1 > y0) || !(z1 > z0) || !(std::min(ahi.x(), bhi.x()) > std::max(alo.x(), blo.x()))) return out;
