@@ -18,6 +18,7 @@
 //
 // Usage: cdkit_distance_expansion_cost [--mesh PATH] [--rotations N] [--rounds N] [--evict-mb N] [--calls N]
 // Times are thread CPU time.
+#include "distance_poses.hpp"
 #include "../thread_cpu_clock.hpp"
 #include "cdkit/cdkit.hpp"
 #include "cdkit/distance.hpp"
@@ -34,19 +35,8 @@ using Clock = cdbench::ThreadCpuClock;
 
 namespace {
 
-TriangleMesh<double> unit_scaled(TriangleMesh<double> m) {
-    Vec3<double> lo = m.vertices[0], hi = m.vertices[0];
-    for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    for (auto& v : m.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
-    return m;
-}
-
-Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    q.normalize();
-    return q.toRotationMatrix();
-}
+using cdbench::random_rotation;
+using cdbench::unit_scaled;
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());

@@ -11,6 +11,7 @@
 // Usage: cdkit_bench_distance [--mesh PATH]... [--full] [--rotations N] [--reps N] [--brute N] [--csv PATH]
 //                             [--filter NAME]   (only cdkit methods whose name contains NAME; FCL always)
 //   default: data/bunny.obj and data/dragon/dragon_48k.ply (when present); --full: bunny + every dragon.
+#include "distance_poses.hpp"
 #include "../thread_cpu_clock.hpp"
 #include "cdkit/cdkit.hpp"
 #include "cdkit/bvh/boxtree_distance.hpp"
@@ -52,19 +53,8 @@ struct Options {
     std::string filter;  // run only the cdkit methods whose name contains it (FCL peers always run)
 };
 
-TriangleMesh<double> unit_scaled(TriangleMesh<double> m) {
-    Vec3<double> lo = m.vertices[0], hi = m.vertices[0];
-    for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    for (auto& v : m.vertices) v = (v - (lo + hi) / 2) * (2 / (hi - lo).maxCoeff());
-    return m;
-}
-
-Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    q.normalize();
-    return q.toRotationMatrix();
-}
+using cdbench::random_rotation;
+using cdbench::unit_scaled;
 
 struct Answer {
     double distance;
