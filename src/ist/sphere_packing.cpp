@@ -124,9 +124,10 @@ struct SampleLattice {
 /// (per column along u, on a lateral grid of the sample spacing), then `depth` further; the translation is
 /// rounded to lattice steps. The reference volume counts the samples inside both (a lattice sample maps to a
 /// lattice sample, so no inside test is needed); the estimate is the query's own: over the overlapping pairs
-/// of inner spheres, Σ lens volume of their cell spheres (radius r·∛w). α in [0, 1] zeroes the mean relative error over the contacts
-/// that hold at least 32 samples, by bisection (the estimate grows with α; clamped to [0, 1]); without
-/// such a contact (a very coarse lattice), fallback_strength. `blend(α)`: the weights at strength α.
+/// of inner spheres, Σ lens volume of their cell spheres (radius r·∛w). α in [0, 1] zeroes the mean relative
+/// error over the contacts that hold at least 32 samples, by bisection (the estimate grows with α; clamped to
+/// [0, 1]); without such a contact (a very coarse lattice), fallback_strength. `blend(α)`: the weights at
+/// strength α.
 template <class Blend>
 double self_contact_strength(const std::vector<InnerSphere>& spheres, const SampleLattice& L,
                              const Vec3d& centre, double depth, Blend&& blend) {

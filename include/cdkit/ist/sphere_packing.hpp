@@ -44,9 +44,9 @@
 /// contacts of the object with a copy of itself, each turned by one of the 24 rotations that map the
 /// sample lattice onto itself and pushed depth_calibration_contact_depth past first contact along a
 /// direction spread over the sphere; their reference volume counts the lattice samples inside both (exact
-/// for the lattice: samples map onto samples), their estimate is the query's (Σ lens of the cell spheres of the
-/// overlapping inner-sphere pairs, radius r·∛w), and α in
-/// [0, 1] zeroes the mean relative error (bisection). So α adapts to the mesh and the sphere count (bunny
+/// for the lattice: samples map onto samples), their estimate is the query's (Σ lens of the cell spheres of
+/// the overlapping inner-sphere pairs, radius r·∛w), and α in [0, 1] zeroes the mean relative error
+/// (bisection). So α adapts to the mesh and the sphere count (bunny
 /// 0.84 / 0.59 / 0.56 at 1k / 10k / 100k spheres, dragon 0.92 / 0.64 / 0.29). The correction w_fit/w_cell,
 /// hence the calibration, fades as the packing gets finer and the layers' gaps close.
 /// Self-contacts use the object's own shape and a contact depth, never query poses.
