@@ -101,6 +101,14 @@ struct Row {
 
 // ist_query's one descent against the two traversals it replaces (penetration_volume, then sphere_distance
 // when no inner spheres overlap), at the overlapping (δ = −0.05) and separated (δ = +0.05) poses.
+/// Time-critical mode at one node budget (out-degree of the default tree), medians over the poses.
+struct BudgetRow {
+    std::size_t spheres = 0;
+    std::uint64_t budget = 0;  // 0: unlimited (the exact query)
+    double us = 0, node_tests = 0, cal_err = 0, width = 0;  // width: (upper − lower) / exact volume
+    int bracketed = 0, complete = 0, total = 0;             // exact volume in [lower, upper]; finished
+};
+
 struct TraversalRow {
     std::size_t spheres = 0;
     const char* poses = "";
@@ -416,6 +424,7 @@ int main(int argc, char** argv) {
 
         std::vector<Row> rows;
         std::vector<TraversalRow> traversal_rows;
+        std::vector<BudgetRow> budget_rows;
         struct CurvePoint { std::size_t packing, spheres; double coverage; };
         std::vector<CurvePoint> curve;
         for (std::size_t count : counts) {
@@ -481,6 +490,34 @@ int main(int argc, char** argv) {
                 row.cal_bias = cal_err.empty() ? 0 : bias / double(cal_err.size());
                 rows.push_back(row);
                 if (degree != IstBuildOptions{}.out_degree) continue;
+                for (std::uint64_t budget : {std::uint64_t(100), std::uint64_t(300), std::uint64_t(1000),
+                                             std::uint64_t(3000), std::uint64_t(10000), std::uint64_t(0)}) {
+                    BudgetRow br;
+                    br.spheres = row.spheres;
+                    br.budget = budget;
+                    std::vector<double> us, nt, err, width;
+                    for (int i = 0; i < poses; ++i) {
+                        const PenetrationVolumeResult exact = penetration_volume(tree, {}, tree, pose_b[i]);
+                        PenetrationVolumeResult r;
+                        IstRequest req;
+                        req.max_node_tests = budget;
+                        req.collect_pairs = false;
+                        us.push_back(time_us([&] { r = penetration_volume(tree, {}, tree, pose_b[i], req); }));
+                        nt.push_back(double(r.stats.node_tests));
+                        if (reference[i] > 0) err.push_back(std::abs(r.calibrated - reference[i]) / reference[i]);
+                        if (exact.volume > 0) width.push_back((r.volume_upper - r.volume_lower) / exact.volume);
+                        // The exact query sums in another order: allow its rounding.
+                        const double slack = 1e-12 * exact.volume;
+                        br.bracketed += r.volume_lower <= exact.volume + slack && exact.volume - slack <= r.volume_upper;
+                        br.complete += r.complete;
+                        ++br.total;
+                    }
+                    br.us = quantile(us, 0.5);
+                    br.node_tests = quantile(nt, 0.5);
+                    br.cal_err = quantile(err, 0.5);
+                    br.width = quantile(width, 0.5);
+                    budget_rows.push_back(br);
+                }
                 for (const auto* set : {&pose_b, &pose_apart}) {
                     TraversalRow tr;
                     tr.spheres = row.spheres;
@@ -524,6 +561,16 @@ int main(int argc, char** argv) {
             std::printf("| %zu | %d | %.1f%% | %.2f | %.2f | %.3f | %zu | %zu | %.1f | %.1f | %.0f | %.0f | %.1f%% | %.1f%% | %.1f%% | %+.1f%% | %.2f |\n",
                         r.spheres, r.degree, 100 * r.coverage, r.pack_s, r.pack_cpu_s, r.tree_s, r.depth, r.nodes, r.q_median, r.q_p99,
                         r.tests_median, r.pairs_median, 100 * r.raw_err_median, 100 * r.cal_err_median, 100 * r.cal_err_max, 100 * r.cal_bias, r.alpha);
+        std::printf("\n## Time-critical mode at δ = -0.05 (out-degree %d)\n\n"
+                    "penetration_volume() with IstRequest::max_node_tests = budget (0: unlimited), no pair list; medians over "
+                    "the poses: thread-CPU µs, node tests, |calibrated − reference| / reference, the guaranteed interval's "
+                    "width (upper − lower) / exact volume; \"bracketed\": poses whose exact volume lies in [lower, upper].\n\n"
+                    "| spheres | budget | µs | node tests | calibrated error | interval width | bracketed | complete |\n"
+                    "|---:|---:|---:|---:|---:|---:|---:|---:|\n", IstBuildOptions{}.out_degree);
+        for (const BudgetRow& b : budget_rows)
+            std::printf("| %zu | %s | %.1f | %.0f | %.1f%% | %.1f%% | %d/%d | %d/%d |\n", b.spheres,
+                        b.budget ? std::to_string(b.budget).c_str() : "∞", b.us, b.node_tests, 100 * b.cal_err,
+                        100 * b.width, b.bracketed, b.total, b.complete, b.total);
         std::printf("\n## ist_query: one descent against the two traversals (out-degree %d)\n\n"
                     "Median thread-CPU µs per query over the poses; \"same\": poses where volume, calibrated volume and "
                     "(when apart) distance are bit for bit equal.\n\n"

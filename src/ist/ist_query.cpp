@@ -223,7 +223,8 @@ void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const
     out.volume_upper = out.complete ? exact : least_upper;
     out.volume = std::min(exact + rest_estimate, out.volume_upper);
     const double cov = std::max(a.coverage() * b.coverage(), 1e-12);
-    out.calibrated = calibrated + rest_estimate / cov;
+    const double ratio = (calibrated + rest_estimate / cov) / std::max(exact + rest_estimate, 1e-300);
+    out.calibrated = calibrated + rest_estimate * ratio;
 }
 
 }  // namespace

@@ -196,7 +196,8 @@ TEST_CASE("time-critical mode: the interval holds the exact volume and tightens 
     int tested = 0;
     for (int i = 0; i < scaled(20, 6); ++i) {
         const auto pa = random_pose(rng, 0.2), pb = random_pose(rng, 0.6);
-        const double exact = penetration_volume(t, pa, t, pb).volume;
+        const auto full = penetration_volume(t, pa, t, pb);
+        const double exact = full.volume;
         if (exact == 0) continue;
         ++tested;
         double first_width = -1, last_lower = 0, last_upper = std::numeric_limits<double>::infinity();
@@ -219,6 +220,12 @@ TEST_CASE("time-critical mode: the interval holds the exact volume and tightens 
             if (budget == 100000000) {
                 CHECK(r.complete);
                 CHECK(r.volume == Approx(exact).epsilon(1e-10));
+                CHECK(r.calibrated == Approx(full.calibrated).epsilon(1e-10));  // nothing left to extrapolate
+            } else if (!r.complete) {
+                // The estimate of what is left: its raw estimate times a ratio between the prior 1/coverage²
+                // and the ratio seen so far, so never below the pairs already summed.
+                CHECK(r.calibrated >= r.volume_lower);
+                CHECK(std::isfinite(r.calibrated));
             }
         }
         IstRequest req;

@@ -18,7 +18,9 @@
 /// overlap with the other's is at most either side's sphere volume and lies in both bounding spheres —
 /// giving a guaranteed interval [volume_lower, volume_upper] and an estimate in between (the bounding
 /// spheres' lens scaled by both subtrees' fill ratios). volume_upper is the least such sum over the
-/// expansion, so the interval never widens as the budget grows.
+/// expansion, so the interval never widens as the budget grows. `calibrated` adds that estimate of the pairs
+/// left times (Σcalibrated + rest/(c_A c_B)) / (Σvolume + rest), c the coverages: the prior 1/(c_A c_B) while
+/// little is done, the ratio seen so far once the pairs done outweigh the rest.
 ///
 /// sphere_distance(): branch and bound on |c_a − c_b| − r_a − r_b, nearer pairs first; the distance
 /// between the two inner sphere sets (≥ the meshes' distance, by at most the packings' gap at the
