@@ -350,6 +350,7 @@ int main(int argc, char** argv) {
         Cylinder<double> cy(0.05, 0.1);
         Cylinder<LD> cyl_l(0.05L, 0.1L);
         long fail_bool = 0, fail_dist = 0, fail_dist_plain = 0, hits = 0, dist_checked = 0, by_balls = 0;
+        long by_containment = 0;
         GjkSettings<LD> tight;
         tight.rel_tolerance = 1e-16L;
         std::uniform_real_distribution<double> t(-0.3, 0.3);
@@ -362,6 +363,8 @@ int main(int argc, char** argv) {
                 auto d = gjk_distance(a, pa, b, pb);
                 auto bo = gjk_intersect(a, pa, b, pb);
                 by_balls += bo.iterations == 0;  // decided by the bounding-ball pre-test
+                // decided by the containment certificate (GjkSettings::containment_test): one pair, no simplex
+                by_containment += bo.status == GjkStatus::intersecting && bo.iterations == 1 && bo.simplex.size == 0;
                 bool ref_hit = ref.colliding();
                 hits += ref_hit;
                 if (!ref_hit && ref.distance > 1e-9L * 0.1L) {
@@ -391,8 +394,8 @@ int main(int argc, char** argv) {
         double secs = std::chrono::duration<double>(Clock::now() - t0).count();
         std::printf("checked counter: %ld seeded cases (%ld colliding), boolean failures %ld, distance checks %ld with "
                     "rel. error > 1e-9: %ld against the certified-clamped reference (%ld against the plain "
-                    "long-double one); booleans decided by the bounding balls: %ld  (%.1f s)\n",
-                    checks, hits, fail_bool, dist_checked, fail_dist, fail_dist_plain, by_balls, secs);
+                    "long-double one); booleans decided by the bounding balls: %ld, by containment: %ld  (%.1f s)\n",
+                    checks, hits, fail_bool, dist_checked, fail_dist, fail_dist_plain, by_balls, by_containment, secs);
         if (fail_bool) return 1;  // distance outliers are reported, booleans must be exact
     }
     return 0;

@@ -1,5 +1,6 @@
 // What a GJK result says about an overlap, on every path that can prove one: the cold boolean's tetrahedron
-// exit (which builds the result itself, without gjk_finish), the cached boolean and the distance query (both
+// exit (which builds the result itself, without gjk_finish; also run with the containment certificate off so that
+// it is always reached) and its containment exit, the cached boolean and the distance query (both
 // through gjk_finish, which returns before any witness-point work for an overlap). All three must report
 // `intersecting` with distance 0 on shallow overlaps (1e-4 … 1e-1 of the size), where the bounding balls
 // rarely decide: a hit-rate check makes sure the loop's tetrahedron exit is what the test exercises.
@@ -36,8 +37,17 @@ template <class A, class B> void check_overlaps(const A& a, const B& b, std::mt1
         CHECK(cold.colliding());
         if (cold.iterations > 0) {
             ++loop_proofs;
-            CHECK(cold.simplex.size == 4);  // the tetrahedron around the origin is the certificate
+            // The certificate: the tetrahedron around the origin, or (one support pair, no simplex) a support
+            // point strictly inside the other shape (GjkSettings::containment_test).
+            CHECK((cold.simplex.size == 4 || (cold.iterations == 1 && cold.simplex.size == 0)));
         }
+        // The tetrahedron exit itself, with the containment certificate off.
+        GjkSettings<double> no_containment;
+        no_containment.containment_test = false;
+        const auto tet = gjk_intersect(a, pa, b, pb, nullptr, no_containment);
+        CHECK(tet.status == GjkStatus::intersecting);
+        CHECK(tet.distance == 0.0);
+        if (tet.iterations > 0) CHECK(tet.simplex.size == 4);
 
         GjkCache<double> cache;
         const auto warm = gjk_intersect(a, pa, b, pb, &cache);
@@ -73,6 +83,6 @@ TEST_CASE("GJK results of proven overlaps: intersecting, distance 0, on the cold
         check_overlaps(hull, ba, rng, loop_proofs);
         queries += 12;
     }
-    // Shallow overlaps: nearly all must be proven by the loop's tetrahedron, not by the inner balls.
+    // Shallow overlaps: nearly all must be proven by the loop (tetrahedron or containment), not by the inner balls.
     CHECK(loop_proofs >= queries * 9 / 10);
 }

@@ -85,6 +85,11 @@ template <class S = double> struct Box {
         return detail::round_up(std::sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]));
     }
     [[nodiscard]] S inner_radius() const noexcept { return std::min({half[0], half[1], half[2]}); }
+    /// p at least `slack` inside every face (HasContainmentTest). Non-short-circuit: GJK's points vary.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE bool contains_strictly(const Vec3<S>& p, S slack) const noexcept {
+        return (std::abs(p[0]) < half[0] - slack) & (std::abs(p[1]) < half[1] - slack) &
+               (std::abs(p[2]) < half[2] - slack);
+    }
 };
 
 /// A capsule: the segment z ∈ [-half_length, half_length] grown by `radius`.
@@ -125,6 +130,11 @@ template <class S = double> struct Cylinder {
         return detail::round_up(std::sqrt(radius * radius + half_height * half_height));
     }
     [[nodiscard]] S inner_radius() const noexcept { return std::min(radius, half_height); }
+    /// p at least `slack` inside the caps and the side (HasContainmentTest): the shrunk cylinder's test.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE bool contains_strictly(const Vec3<S>& p, S slack) const noexcept {
+        const S r = radius - slack;
+        return (std::abs(p[2]) < half_height - slack) & (r > S(0)) & (p[0] * p[0] + p[1] * p[1] < r * r);
+    }
 };
 
 /// A solid cone: base disc of radius `radius` at z = -half_height, apex at z = +half_height.
@@ -160,6 +170,15 @@ template <class S = double> struct Cone {
         // √(4h² + r²) ≤ 2h + r: a division instead of a sqrt and a division, at most 30 % below the exact ball.
         const S side = S(1.5) * r * h / (S(2) * h + r);
         return detail::round_down(std::min(h / S(2), side == side ? side : S(0)));
+    }
+    /// p at least `slack` inside the base, below the apex and inside the side (HasContainmentTest). The side's
+    /// distance is (r(h − z) − 2hρ)/√(4h² + r²), ρ = |(p_x, p_y)|; √(4h² + r²) ≤ 2h + r keeps it conservative, and
+    /// comparing squares (both sides ≥ 0) saves the sqrt.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE bool contains_strictly(const Vec3<S>& p, S slack) const noexcept {
+        const S h = half_height, r = radius;
+        const S q = r * (h - p[2]) - slack * (S(2) * h + r);  // 2h times the largest ρ allowed at height z
+        const S two_h = S(2) * h;
+        return (std::abs(p[2]) < h - slack) & (q > S(0)) & (two_h * two_h * (p[0] * p[0] + p[1] * p[1]) < q * q);
     }
 };
 

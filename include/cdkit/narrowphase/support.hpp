@@ -65,6 +65,17 @@ concept HasBoundingBalls = SupportMapped<T> && requires(const T& s) {
     { s.inner_radius() } -> std::convertible_to<typename T::Scalar>;
 };
 
+/// A shape with a cheap conservative point-containment test in its local frame: `contains_strictly(p, slack)`
+/// true only when the ball of radius `slack` about p lies inside the shape (margins included), up to roundings
+/// far below `slack`; it may answer false for such points (a thin shape, a point near an edge). The cold boolean
+/// GJK uses it as an overlap certificate that needs no tetrahedron: a support point of one shape strictly
+/// inside the other proves that the two overlap.
+template <class T>
+concept HasContainmentTest = SupportMapped<T> &&
+                             requires(const T& s, const Vec3<typename T::Scalar>& p, typename T::Scalar slack) {
+                                 { s.contains_strictly(p, slack) } -> std::convertible_to<bool>;
+                             };
+
 namespace detail {
 /// x rounded outwards by a few ulps: a radius computed with a handful of rounded operations (a sqrt, a sum)
 /// is within 4ε relative of the true value, so these give a certain upper / lower bound.

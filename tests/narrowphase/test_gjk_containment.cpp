@@ -1,0 +1,217 @@
+// The containment certificate of the cold boolean GJK (GjkSettings::containment_test): the shapes' strict
+// containment tests are conservative (a point they accept has a ball of radius `slack` around it inside the
+// shape, checked against the support map) and not useless; the certificate never fires on a pair that is apart
+// or touching (placed by long-double GJK at 1e-12 of its size and at 0, scale ratios up to 1e6, offsets up to 100
+// sizes), never contradicts long-double GJK, never turns a right answer of the plain loop wrong, gives the plain
+// loop's status on random pairs, and decides most shallow box overlaps after one support pair.
+#include <catch2/catch.hpp>
+
+#include <cdkit/narrowphase/convex_polyhedron.hpp>
+#include <cdkit/narrowphase/convex_shapes.hpp>
+#include <cdkit/narrowphase/gjk.hpp>
+
+#include "mesh_factory.hpp"
+#include "test_common.hpp"
+
+#include <random>
+
+using namespace cdkit;
+
+namespace {
+
+Vec3<double> unit(std::mt19937_64& rng) {
+    std::normal_distribution<double> g;
+    return Vec3<double>(g(rng), g(rng), g(rng)).normalized();
+}
+
+/// Random points around the shape (inside and outside, some near the boundary); for each accepted point
+/// (contains_strictly(p, slack)) every sampled support plane lies at least `slack` beyond it:
+/// n·p + slack ≤ n·s(n) for unit n. Returns how many points were accepted.
+template <class Shape> int check_conservative(const Shape& s, std::mt19937_64& rng, double slack) {
+    const double R = s.bounding_radius();
+    const Vec3<double> c = s.center();
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int accepted = 0, violated = 0;
+    const int points = test::scaled(400, 40), normals = test::scaled(400, 60);
+    std::vector<Vec3<double>> dirs;
+    for (int j = 0; j < normals; ++j) dirs.push_back(unit(rng));
+    for (int k = 0; k < 3; ++k)
+        for (double sg : {-1.0, 1.0}) {
+            Vec3<double> n = Vec3<double>::Zero();
+            n[k] = sg;
+            dirs.push_back(n);
+        }
+    for (int i = 0; i < points; ++i) {
+        // A support point pulled towards the centre by a factor in [0.9, 1] (near the boundary) or [0, 1].
+        const Vec3<double> q = s.support(unit(rng));
+        const double f = i % 2 ? 1 - 0.1 * u(rng) : u(rng);
+        const Vec3<double> p = c + f * (q - c);
+        if (!s.contains_strictly(p, slack)) continue;
+        ++accepted;
+        for (const Vec3<double>& n : dirs)
+            if (n.dot(p) + slack > n.dot(Vec3<double>(s.support(n))) + 1e-15 * R) ++violated;
+    }
+    CHECK(violated == 0);
+    // The boundary of the shrunk shape itself: a point exactly on the boundary is never accepted.
+    for (const Vec3<double>& n : dirs) CHECK_FALSE(s.contains_strictly(Vec3<double>(s.support(n)), slack));
+    return accepted;
+}
+
+}  // namespace
+
+TEST_CASE("strict containment tests are conservative and not useless", "[gjk][containment]") {
+    std::mt19937_64 rng(701);
+    for (double slack : {0.0, 1e-12, 1e-3}) {
+        INFO("slack " << slack);
+        const int points = test::scaled(400, 40);
+        CHECK(check_conservative(Box<double>(Vec3<double>(0.1, 0.3, 0.05)), rng, slack) > points / 4);
+        CHECK(check_conservative(Cylinder<double>(0.1, 0.3), rng, slack) > points / 4);
+        CHECK(check_conservative(Cylinder<double>(0.3, 0.02), rng, slack) > points / 5);
+        CHECK(check_conservative(Cone<double>(0.1, 0.3), rng, slack) > points / 5);
+        CHECK(check_conservative(Cone<double>(0.3, 0.05), rng, slack) > points / 5);
+        CHECK(check_conservative(Cone<double>(0.2, 0.2), rng, slack) > points / 5);
+    }
+    // A slack larger than the shape accepts nothing (a negative shrunk radius must not square to a positive one).
+    const Cylinder<double> cyl(0.1, 0.3);
+    CHECK_FALSE(cyl.contains_strictly(Vec3<double>::Zero(), 0.2));
+    const Cone<double> cone(0.1, 0.3);
+    CHECK_FALSE(cone.contains_strictly(Vec3<double>(0, 0, -0.1), 0.2));
+    CHECK(cone.contains_strictly(Vec3<double>(0, 0, -0.1), 0.01));
+    const Box<double> box(Vec3<double>(0.1, 0.2, 0.3));
+    CHECK_FALSE(box.contains_strictly(Vec3<double>::Zero(), 0.1));
+    CHECK(box.contains_strictly(Vec3<double>::Zero(), 0.099));
+}
+
+TEST_CASE("containment certificate changes no boolean answer near contact", "[gjk][containment]") {
+    // Each pair is placed by long-double GJK (relative tolerance 1e-16, one refinement) so that its distance is
+    // g·size along the separating normal, g ∈ {1e-2, 1e-9, 1e-12, 0, −1e-12, −1e-9, −1e-6, −1e-3, −1e-2}
+    // (size = R_a + R_b), shape B scaled by 10^k, k ∈ [−3, 3] (scale ratios up to 1e6 between the pairs'
+    // extremes), both poses moved by a common offset of 0.1 … 100 sizes (the double poses then round at
+    // ≤ 2e-14·size, far below the 1e-12 gaps). The certificate must never fire on a pair that is apart or touching
+    // (g ≥ 0: B moved along the closest-point normal to a plane gap g·size ≥ 0 cannot overlap A); where |g| ≥ 1e-9
+    // and long-double GJK is decisive, a certified answer must agree with it, and where the plain double loop
+    // answers right the answer must equal its answer, status included; and it must decide a fair share of the
+    // shallow overlaps.
+    using L = long double;
+    std::mt19937_64 rng(702);
+    std::uniform_real_distribution<double> u(0.5, 1.0);
+    GjkSettings<double> off;
+    off.containment_test = false;
+    GjkSettings<L> exact;
+    exact.rel_tolerance = L(1e-16);
+    const double gaps[] = {1e-2, 1e-9, 1e-12, 0.0, -1e-12, -1e-9, -1e-6, -1e-3, -1e-2};
+    int cases = 0, differ = 0, fired_not_overlapping = 0, overlapping = 0, fired = 0, corrected = 0, both_wrong = 0;
+    int certified_wrong = 0;
+    int box_overlaps = 0, box_fired = 0;
+    auto run = [&](const auto& a, const auto& b, const auto& a_l, const auto& b_l, bool boxes) {
+        for (double g : gaps) {
+            const double size = a.bounding_radius() + b.bounding_radius();
+            const double offset_scale = size * std::pow(10.0, std::uniform_int_distribution<int>(-1, 2)(rng));
+            const Vec3<double> offset = unit(rng) * offset_scale;
+            const Transform<double> pa(test::random_rotation(rng), offset);
+            Transform<double> pb(test::random_rotation(rng), offset + unit(rng) * (1.5 * size));
+            const Transform<L> pa_l(pa.R.template cast<L>(), pa.t.template cast<L>());
+            bool placed = true;
+            for (const double target : {1e-3 * size, g * size, g * size}) {
+                const Transform<L> pb_l(pb.R.template cast<L>(), pb.t.template cast<L>());
+                const auto d = gjk_distance(a_l, pa_l, b_l, pb_l, nullptr, exact);
+                if (d.status != GjkStatus::separated) { placed = false; break; }  // needs a normal
+                pb.t = (pb_l.t + (L(target) - d.distance) * d.normal).template cast<double>();
+                if (target == g * size && g <= 0) break;  // overlapping: no distance to refine on
+            }
+            if (!placed) continue;
+            ++cases;
+            const auto on = gjk_intersect(a, pa, b, pb);
+            const auto plain = gjk_intersect(a, pa, b, pb, nullptr, off);
+            const bool certified = on.status == GjkStatus::intersecting && on.iterations == 1 && on.simplex.size == 0;
+            if (g >= 0 && certified) ++fired_not_overlapping;
+            if (std::abs(g) >= 1e-9) {
+                // Reference: long-double GJK on the double poses. Moving B by more than the distance along the
+                // closest-point normal need not make the pair overlap where the contact is at a vertex or an edge
+                // of A − B (a cone's apex or rim), so g's sign is not the truth for g < 0; the reference is, where
+                // it is decisive (intersecting, or apart by more than 1e-12 of the size).
+                const Transform<L> pb_l(pb.R.template cast<L>(), pb.t.template cast<L>());
+                const auto ref = gjk_distance(a_l, pa_l, b_l, pb_l, nullptr, exact);
+                const bool decisive = ref.status == GjkStatus::intersecting ||
+                                      (ref.status == GjkStatus::separated && ref.distance > L(1e-12 * size));
+                if (decisive) {
+                    const bool truth = ref.colliding();
+                    if (on.colliding() != truth && certified) ++certified_wrong;
+                    if (plain.colliding() == truth && (on.colliding() != truth || on.status != plain.status)) ++differ;
+                    if (plain.colliding() != truth && on.colliding() == truth) ++corrected;
+                    if (plain.colliding() != truth && on.colliding() != truth) ++both_wrong;
+                }
+            }
+            if (g <= -1e-6) {
+                ++overlapping;
+                fired += certified;
+                if (boxes) {
+                    ++box_overlaps;
+                    box_fired += certified;
+                }
+            }
+        }
+    };
+    for (int k = 0; k < test::scaled(40, 6); ++k) {
+        const double s = std::pow(10.0, std::uniform_int_distribution<int>(-3, 3)(rng));
+        const double r1 = 0.1 * u(rng), r2 = 0.1 * u(rng), h1 = 0.1 * u(rng), h2 = 0.1 * u(rng);
+        const Vec3<double> e1(r1, h1, r2), e2(h2, r1, h1);
+        run(Box<double>(e1), Box<double>(e2), Box<L>(e1.cast<L>()), Box<L>(e2.cast<L>()), true);
+        run(Box<double>(e1), Box<double>(s * e2), Box<L>(e1.cast<L>()), Box<L>((s * e2).cast<L>()), false);
+        run(Cylinder<double>(r1, h1), Cone<double>(s * r2, s * h2), Cylinder<L>(r1, h1), Cone<L>(s * r2, s * h2), false);
+        run(Cone<double>(r1, h1), Cone<double>(r2, h2), Cone<L>(r1, h1), Cone<L>(r2, h2), false);
+        run(Cylinder<double>(r1, h1), Cylinder<double>(r2, h2), Cylinder<L>(r1, h1), Cylinder<L>(r2, h2), false);
+        run(Ellipsoid<double>(e1), Cylinder<double>(s * r2, s * h2), Ellipsoid<L>(e1.cast<L>()),
+            Cylinder<L>(s * r2, s * h2), false);
+        run(Cone<double>(s * r1, s * h1), Box<double>(e2), Cone<L>(s * r1, s * h1), Box<L>(e2.cast<L>()), false);
+    }
+    INFO(cases << " cases; " << overlapping << " placed at g ≤ −1e-6, " << fired << " decided by containment; boxes "
+               << box_fired << " of " << box_overlaps << "; plain loop wrong at |g| ≥ 1e-9: " << corrected
+               << " corrected by the certificate, " << both_wrong << " not");
+    CHECK(cases > 0);
+    CHECK(fired_not_overlapping == 0);
+    CHECK(certified_wrong == 0);
+    CHECK(differ == 0);
+    CHECK(fired >= overlapping / 5);
+    CHECK(box_fired >= box_overlaps / 2);
+}
+
+TEST_CASE("containment certificate agrees with the plain loop on random overlapping pairs", "[gjk][containment]") {
+    // Random poses over ±0.15 with shapes of size ~0.1: a mix of clear, shallow and deep overlaps and of
+    // separated pairs; every answer (status) with the certificate must equal the plain loop's.
+    std::mt19937_64 rng(703);
+    std::uniform_real_distribution<double> u(0.5, 1.0), t(-0.15, 0.15);
+    GjkSettings<double> off;
+    off.containment_test = false;
+    int n = 0, differ = 0, colliding = 0, fired = 0;
+    auto run = [&](const auto& a, const auto& b) {
+        const Transform<double> pa(test::random_rotation(rng), Vec3<double>(t(rng), t(rng), t(rng)));
+        const Transform<double> pb(test::random_rotation(rng), Vec3<double>(t(rng), t(rng), t(rng)));
+        const auto on = gjk_intersect(a, pa, b, pb);
+        const auto plain = gjk_intersect(a, pa, b, pb, nullptr, off);
+        ++n;
+        differ += on.status != plain.status;
+        colliding += plain.colliding();
+        fired += on.iterations == 1 && on.status == GjkStatus::intersecting && on.simplex.size == 0;
+    };
+    for (int k = 0; k < test::scaled(3000, 300); ++k) {
+        const double r1 = 0.1 * u(rng), r2 = 0.1 * u(rng), h1 = 0.1 * u(rng), h2 = 0.1 * u(rng);
+        run(Box<double>(Vec3<double>(r1, h1, r2)), Cone<double>(r2, h2));
+        run(Cylinder<double>(r1, h1), Box<double>(Vec3<double>(h2, r2, r1)));
+        run(Cone<double>(r1, h1), Cylinder<double>(r2, h2));
+        run(Capsule<double>(r1 / 2, h1), Box<double>(Vec3<double>(h2, r2, r1)));
+        if (k % 10 == 0) {
+            std::vector<Vec3<double>> cloud;
+            for (int i = 0; i < 60; ++i) cloud.push_back(unit(rng) * 0.1 * u(rng));
+            const ConvexPolyhedron<double> hull(cloud);
+            for (int j = 0; j < 10; ++j) {
+                run(hull, Box<double>(Vec3<double>(h2, r2, r1)));
+                run(Cone<double>(r1, h1), hull);
+            }
+        }
+    }
+    INFO(n << " pairs, " << colliding << " colliding, " << fired << " decided by containment");
+    CHECK(differ == 0);
+    CHECK(colliding > n / 10);
+    CHECK(fired > 0);
+}
