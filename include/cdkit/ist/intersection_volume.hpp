@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <string>
 #include <utility>
@@ -151,9 +152,8 @@ inline void bounding_box(const TriangleMesh<double>& m, Vec3<double>& lo, Vec3<d
 
 /// vol(A ∩ B) for meshes `a` at `pose_a` and `b` at `pose_b`. Both must be closed, manifold and consistently
 /// oriented (check_closed_mesh(); throws cdkit::Error naming the mesh otherwise), and the poses rigid motions
-/// (Transform::is_valid()). The integration runs in A's
-/// frame: B's vertices are moved there. For many poses of the same meshes, build the InsideTest of A once
-/// and call the other overload.
+/// (Transform::is_valid()). The integration runs in A's frame: B's vertices are moved there. For many poses
+/// of the same meshes, build the InsideTest of A once and call the other overload.
 [[nodiscard]] inline IntersectionVolume mesh_intersection_volume(const TriangleMesh<double>& a,
                                                                  const Transform<double>& pose_a,
                                                                  const TriangleMesh<double>& b,
