@@ -55,6 +55,21 @@ void check_unit_cube(const cdkit::TriangleMesh<double>& m) {
 
 }  // namespace
 
+TEST_CASE("load_mesh: Stanford Armadillo (decimated)", "[io]") {
+    const auto m = cdkit::load_mesh(data_path("armadillo.obj"));
+    const auto s = cdkit::compute_stats(m);
+    CHECK(s.vertices == 2502);  // no two vertices of the file share a position
+    CHECK(s.triangles == 5000);
+    CHECK(s.edges == 7500);
+    CHECK(s.boundary_edges == 0);  // closed, genus 0: V - E + F = 2
+    CHECK(s.non_manifold_edges == 0);
+    CHECK(s.inconsistent_edges == 0);
+    CHECK(s.degenerate_triangles == 0);
+    CHECK(s.duplicate_triangles == 0);
+    CHECK(s.closed);
+    CHECK(s.consistently_oriented);
+}
+
 TEST_CASE("load_mesh: Stanford bunny", "[io]") {
     const std::string path = data_path("bunny.obj");
     const auto m = cdkit::load_mesh(path);
