@@ -316,7 +316,9 @@ template <SupportMapped A, SupportMapped B>
     GjkSimplex<S> s;
     Vec3<S> v;
     S size, lower;
-    GjkStatus st = detail::gjk_loop<true>(a, b, rel, settings.gjk, nullptr, false, S(0), s, v, size, r.gjk_iterations,
+    // The margins as gjk_distance passes them: they set the touching threshold that a "separated" exit must
+    // beat with a proven plane (with 0, capsule–cone pairs overlapping by 1e-12 of their size came out apart).
+    GjkStatus st = detail::gjk_loop<true>(a, b, rel, settings.gjk, nullptr, false, ma + mb, s, v, size, r.gjk_iterations,
                                           lower);
     const S eps = std::numeric_limits<S>::epsilon();
     S tiny = settings.gjk.touch_factor * eps * std::max(size, ma + mb);

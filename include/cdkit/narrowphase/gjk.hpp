@@ -40,6 +40,12 @@
 /// vector arithmetic written out (they were out-of-line Eigen calls at -O2), hill-climbing hints for polyhedra
 /// kept per query and, in the cache, per pair.
 ///
+/// Certified separation: "separated" claims a separating plane, so it is only answered with one — a support
+/// plane bound v·w/|v| above the touching tolerance (van den Bergen 1999). GJK's exits on |v| (gap test,
+/// repeated point, no progress) carry none; near contact they could answer "separated" for pairs that overlap
+/// by 1e-12 … 1e-9 of their size. Such exits continue with wide-type sub-simplex steps (`certify_separation`)
+/// and answer `touching` when that decides nothing (docs/convex.md, "Certified separation").
+///
 /// All queries are noexcept, const on their inputs and thread-safe; the only mutable state is the
 /// caller-owned `GjkCache`.
 
@@ -530,6 +536,128 @@ template <class S>
     return excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2;
 }
 
+/// True when a loop's closest point v (vv = |v|²) lies beyond margin + tf·max(size, margin), gjk_finish's
+/// touching tolerance: an exit there would be reported as "separated".
+template <class S> [[nodiscard]] inline bool separation_claimed(S vv, S margin, S tf, S size2) noexcept {
+    const S thr = margin + tf * std::max(std::sqrt(size2), margin);
+    return vv > thr * thr;
+}
+
+/// Certification of a "separated" outcome that no supporting plane backs. A separated answer claims a plane
+/// between the shapes; its proof is a lower bound on the distance, v·w/|v| for a direction v and the support
+/// point w of D along −v (van den Bergen 1999, §3: the plane through w orthogonal to v supports D), above the
+/// touching tolerance. GJK's other exits — the gap test, a repeated support point, a step without progress —
+/// stop on |v|, an upper bound only while the sub-simplex steps are exact: near contact on curved shapes the
+/// support points cluster into needle triangles and flat tetrahedra, the double step misplaces v and GJK
+/// stopped with |v| above the tolerance on pairs that overlap by 1e-12 … 1e-9 of their size (24 of 3,600 such
+/// pairs in a driver: cones, cylinders, ellipsoids). For those rare exits this continues from the final simplex
+/// with the sub-simplex steps in `wider_t<S>` (the support points stay exact points of D, now combined with
+/// a 2048× finer rounding) until a plane proves separation (`separated`, `lower` > margin + tolerance), four
+/// points enclose the origin (`intersecting`), or |v| reaches the tolerance; when it stops without deciding,
+/// the answer is `touching`: conservative for collision detection, and no plane was found above the
+/// tolerance. `s` holds a, b, w of its first s.size vertices (A's frame); `v`, `s`, `size2`, `lower`, `sep`
+/// and `iterations` are updated.
+template <bool use_cores, SupportMapped A, SupportMapped B>
+inline GjkStatus certify_separation(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
+                                    const GjkSettings<typename A::Scalar>& settings, typename A::Scalar margin,
+                                    GjkSimplex<typename A::Scalar>& s, Vec3<typename A::Scalar>& v,
+                                    typename A::Scalar& size2, typename A::Scalar& lower,
+                                    GjkVertex<typename A::Scalar>& sep, std::uint32_t* hints,
+                                    int& iterations) noexcept {
+    using S = typename A::Scalar;
+    using W = wider_t<S>;
+    const S tf = settings.touch_factor * std::numeric_limits<S>::epsilon();
+    GjkSimplex<W> ws;
+    auto widen = [](const GjkVertex<S>& x) { return Vec3<W>(x.a.template cast<W>() - x.b.template cast<W>()); };
+    ws.size = s.size;
+    for (int i = 0; i < s.size; ++i) ws.v[std::size_t(i)].w = widen(s.v[std::size_t(i)]);
+    SimplexSelection<W> sel;
+    // Moves both simplices to the selection (indices ascending: moving down in place is safe).
+    auto apply = [&]() {
+        for (int k = 0; k < sel.size; ++k) {
+            const std::size_t from = std::size_t(sel.idx[std::size_t(k)]);
+            if (from != std::size_t(k)) { s.v[std::size_t(k)] = s.v[from]; ws.v[std::size_t(k)].w = ws.v[from].w; }
+            s.lambda[std::size_t(k)] = S(sel.lambda[std::size_t(k)]);
+        }
+        s.size = ws.size = sel.size;
+    };
+    Vec3<W> vw = v.template cast<W>();
+    if (ws.size > 0) {
+        SimplexSolver<W>::select(ws, sel);
+        if (sel.inside) { v.setZero(); return GjkStatus::intersecting; }
+        if (!all_finite(sel.v)) return GjkStatus::touching;
+        apply();
+        vw = sel.v;
+    }
+    for (int k = 0; k < settings.max_iterations; ++k) {
+        const W thr = W(margin) + W(tf) * W(std::max(std::sqrt(size2), margin));
+        const W vv = vw.squaredNorm();
+        if (!(vv > thr * thr)) break;  // |v| within the tolerance: no separation left to prove
+        const Vec3<S> d = (-vw).template cast<S>();
+        ++iterations;
+        GjkVertex<S>& x = s.v[std::size_t(s.size)];
+        minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
+        if (!all_finite(x.w)) { v = vw.template cast<S>(); return GjkStatus::degenerate; }
+        size2 = std::max(size2, norm2(x.w));
+        // The bound along the direction actually queried (−d, exact in W), from the exact points of D.
+        const Vec3<W> u = (-d).template cast<W>();
+        const Vec3<W> wx = widen(x);
+        const W lb = u.dot(wx) / u.norm();
+        lower = std::max(lower, S(lb));
+        if (lb > thr) {
+            sep = x;
+            v = -d;
+            return GjkStatus::separated;
+        }
+        bool duplicate = false;
+        for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.v[std::size_t(i)].w == x.w;
+        if (duplicate) break;
+        ws.v[std::size_t(ws.size++)].w = wx;
+        ++s.size;
+        SimplexSolver<W>::select(ws, sel);
+        if (sel.inside) { v.setZero(); return GjkStatus::intersecting; }
+        if (!(sel.v.squaredNorm() < vv)) { --s.size; --ws.size; break; }  // the wide rounding floor
+        apply();
+        vw = sel.v;
+    }
+    v = vw.template cast<S>();
+    return GjkStatus::touching;
+}
+
+/// What `certify_exit` found (see certify_separation).
+template <class S> struct CertifiedExit {
+    GjkStatus status;
+    Vec3<S> v;
+    S size2, lower;
+    GjkVertex<S> sep;
+    int iterations;
+};
+
+/// certify_separation for gjk_loop's exits, out of line and on copies (v, size², bound, hints, relative pose), so
+/// that the loop's own state never has its address taken on the common path (taking it cost the cold boolean's
+/// box cells 8–13 %: values reloaded after stores through the simplex).
+template <bool use_cores, SupportMapped A, SupportMapped B>
+CDKIT_COLD_PATH CertifiedExit<typename A::Scalar> certify_exit(const A& a, const B& b,
+                                                                Transform<typename A::Scalar> rel,
+                                                                const GjkSettings<typename A::Scalar>& settings,
+                                                                typename A::Scalar margin,
+                                                                GjkSimplex<typename A::Scalar>& s,
+                                                                Vec3<typename A::Scalar> v, typename A::Scalar size2,
+                                                                typename A::Scalar lower, std::uint32_t hint_a,
+                                                                std::uint32_t hint_b) noexcept {
+    using S = typename A::Scalar;
+    CertifiedExit<S> c;
+    std::uint32_t hints[2] = {hint_a, hint_b};
+    c.sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
+    c.iterations = 0;
+    c.status = certify_separation<use_cores>(a, b, rel, settings, margin, s, v, size2, lower, c.sep, hints,
+                                             c.iterations);
+    c.v = v;
+    c.size2 = size2;
+    c.lower = lower;
+    return c;
+}
+
 /// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0, the shapes' summed margins, enables the boolean
 /// early exit (stop as soon as a plane proves the core distance exceeds it) and sets the distance tolerance
 /// relative to the distance the caller gets (core distance − margin). Returns the status on the cores; `v` is the
@@ -559,11 +687,24 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     // size2: the largest |w|² seen (tolerances scale with its root, taken only where needed: a sqrt per
     // iteration on the path to the next support query showed in the profile).
     S size2 = S(0), lower_bound = S(0);
+    // A boolean query waiting for a better plane (exit_quality) keeps the best one's direction and support point:
+    // it is the answer if the query ends before (best_saved; otherwise the exit's own direction is the best).
+    Vec3<S> best_u = v;
+    GjkVertex<S> best_x;
+    bool best_saved = false;
+    // v·w and |v|² at the loop's exits on |v| (gap test, repeated point, no progress): the plane bound there.
+    S exit_vw = S(0), exit_vv = S(0);
     // Hill-climbing starts for polyhedra: each support query starts at the previous one's vertex (under
     // coherence last frame's, from the cache), instead of the hull's fixed seeds.
     std::uint32_t hints[2] = {cache ? cache->hint_a : std::uint32_t(-1), cache ? cache->hint_b : std::uint32_t(-1)};
     auto done = [&](GjkStatus st) {
         size_out = std::sqrt(size2);
+        // A separated boolean reports the plane of its best bound (the exit's own direction may be weaker
+        // when a warm start waited for exit_quality).
+        if (boolean && st == GjkStatus::separated && best_saved && exit_support) {
+            v = best_u;
+            *exit_support = best_x;
+        }
         lower_out = lower_bound;
         if (cache) { cache->hint_a = hints[0]; cache->hint_b = hints[1]; }
         return st;
@@ -582,14 +723,25 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         if (!(uw > S(0)) && !(lower_bound > S(0))) return false;
         const S un = u.norm();
         if (!(un > S(0))) return false;
-        lower_bound = std::max(lower_bound, uw / un);
+        const S bound = uw / un;
+        const bool improved = bound > lower_bound;
+        if (improved) lower_bound = bound;
         // Same threshold as gjk_query applies to the early exit.
         const S size = std::sqrt(size2);
         if (!(boolean &&
               lower_bound > early_exit_margin + settings.touch_factor * eps * std::max(size, early_exit_margin)))
             return false;
-        if (!check_quality || !(exit_quality > S(0))) return true;
-        return s.size > 0 && lower_bound - early_exit_margin >= exit_quality * (un - early_exit_margin);
+        if (check_quality && exit_quality > S(0) &&
+            !(s.size > 0 && lower_bound - early_exit_margin >= exit_quality * (un - early_exit_margin))) {
+            if (improved) {
+                best_u = u;
+                best_x = x;
+                best_saved = true;
+            }
+            return false;
+        }
+        if (improved) best_saved = false;
+        return true;
     };
     auto store = [&](const GjkVertex<S>* first) {
         if (!cache) return;
@@ -605,6 +757,10 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         cache->size = k;
         cache->shape_a = &a;
         cache->shape_b = &b;
+    };
+    auto note_exit = [&](const GjkVertex<S>& x) {
+        exit_vw = v.dot(x.w);
+        exit_vv = vv;
     };
     typename Solver::Sel sel;
     if (cache && cache->size > 0) {
@@ -676,12 +832,14 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             // boolean test above already kept it). Converged: the gap between upper bound |v| and the lower
             // bound is within tolerance (the ε·|v|·size term is the rounding floor of v·w).
             if (gap_converged(vv, v.dot(x.w), early_exit_margin, size2, settings.rel_tolerance)) {
+                note_exit(x);
                 status = GjkStatus::separated;
                 break;
             }
             bool duplicate = false;
             for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.v[std::size_t(i)].w == x.w;
             if (duplicate) {
+                note_exit(x);
                 // The support point is already in the simplex: in exact arithmetic v is optimal. When the
                 // gap test failed, v may be off by the sub-simplex step's rounding (see below): recompute it
                 // in the wider type and, if it moved, query again from there.
@@ -717,6 +875,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
         if (nvv <= tiny2) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
         if (old_size > 0 && !(nvv < vv)) {
+            note_exit(x);
             // No progress. On curved shapes the support points cluster and the sub-simplex step loses
             // accuracy before the gap test is met (a sliver triangle's normal is rounding noise: issue 5 found
             // |v| up to 1e-7 relative *below* the distance). Redo this step and the previous simplex's in a
@@ -745,6 +904,30 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         Solver::apply(s, sel);
         v = sel.v;
         vv = nvv;
+    }
+    if (status == GjkStatus::separated) {
+        // "Separated" claims a plane: v·w/|v| above the touching tolerance for some support point w (van den
+        // Bergen 1999's lower bound; compared in squares, no sqrt without margins). An exit on |v| without one
+        // (near contact, where the double sub-simplex step can misplace v) is decided by certify_exit.
+        const S tf = settings.touch_factor * eps;
+        S thr2 = tf * tf * size2;
+        if (early_exit_margin > S(0)) {
+            const S thr = early_exit_margin + tf * std::max(std::sqrt(size2), early_exit_margin);
+            thr2 = thr * thr;
+        }
+        const bool proven = (lower_bound > S(0) && lower_bound * lower_bound > thr2) ||
+                            (exit_vw > S(0) && exit_vw * exit_vw > thr2 * exit_vv);
+        if (!proven && v.squaredNorm() > thr2) {
+            const CertifiedExit<S> c = certify_exit<use_cores>(a, b, rel, settings, early_exit_margin, s, v, size2,
+                                                               lower_bound, hints[0], hints[1]);
+            status = c.status;
+            v = c.v;
+            size2 = c.size2;
+            lower_bound = c.lower;
+            iterations += c.iterations;
+            best_saved = false;
+            if (status == GjkStatus::separated && exit_support) *exit_support = c.sep;
+        }
     }
     store(nullptr);
     return done(status);
@@ -806,6 +989,26 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
     }
     r.status = dist > S(0) ? GjkStatus::separated : GjkStatus::intersecting;
     r.distance = std::max(dist, S(0));
+}
+
+/// `certify_separation` and then `gjk_finish`, out of line: the arguments are copies and the relative pose is
+/// formed again, so that the callers' loop state (v, size², the hints, their relative pose) never has its address
+/// taken — passing `rel` by reference cost the cold boolean's box cells 8–13 % (it was reloaded after stores).
+template <SupportMapped A, SupportMapped B>
+CDKIT_COLD_PATH void finish_certified(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                      const Transform<typename A::Scalar>& pose_b,
+                                      const GjkSettings<typename A::Scalar>& settings,
+                                      GjkResult<typename A::Scalar>& r, Vec3<typename A::Scalar> v,
+                                      typename A::Scalar size2, typename A::Scalar lower, std::uint32_t hint_a,
+                                      std::uint32_t hint_b, bool boolean) noexcept {
+    using S = typename A::Scalar;
+    const Transform<S> rel = relative_pose(pose_a, pose_b);
+    std::uint32_t hints[2] = {hint_a, hint_b};
+    GjkVertex<S> sep;
+    sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
+    const GjkStatus st = certify_separation<true>(a, b, rel, settings, margin_of(a) + margin_of(b), r.simplex, v,
+                                                  size2, lower, sep, hints, r.iterations);
+    gjk_finish(a, pose_a, b, settings, r, st, v, std::sqrt(size2), lower, sep, boolean);
 }
 
 /// The bounding-ball pre-test of the cold boolean query (`GjkSettings::bounding_ball_test`): true, with `r`
@@ -891,10 +1094,10 @@ CDKIT_ALWAYS_INLINE bool containment_decides(const A& a, const Transform<typenam
 /// Cold boolean query (no cache): the loop of `gjk_loop` reduced to what a yes/no answer needs, with the
 /// early exit's result built in place. The separation test compares squares (v·w > (margin + tol)·|v| needs
 /// no sqrt; the margin-free case none at all), the one sqrt and division are paid when a plane is found; no
-/// lower-bound bookkeeping, no cache, no wide-type refinement (booleans never used it). The certificates are
-/// those of gjk_loop: a support point w along −v with v·w > (margin + tol)·|v| proves separation for any v;
-/// four points of D around the origin prove overlap; otherwise the query converges on |v| and gjk_finish
-/// decides as for gjk_loop's outcome.
+/// lower-bound bookkeeping, no cache, no wide-type refinement in the loop. The certificates are those of
+/// gjk_loop: a support point w along −v with v·w > (margin + tol)·|v| proves separation for any v; four points
+/// of D around the origin prove overlap. Since every support point was given the plane test, an exit on |v|
+/// (gap test, repeated point, no progress) beyond the tolerance has no plane: `certify_separation` decides it.
 template <SupportMapped A, SupportMapped B>
 inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                                const Transform<typename A::Scalar>& pose_b,
@@ -1091,6 +1294,13 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
         vv = nvv;
     }
     r.iterations = it;
+    // Every support plane was tested above with gjk_finish's threshold, so a "separated" exit here (gap test,
+    // repeated point, no progress) has no plane behind it: certify it unless |v| already lies within the
+    // tolerance (then gjk_finish answers touching, or intersecting inside the margins: no separation claimed).
+    if (status == GjkStatus::separated && separation_claimed(vv, margin, tf, size2)) {
+        finish_certified(a, pose_a, b, pose_b, settings, r, v, size2, S(0), hints[0], hints[1], true);
+        return;
+    }
     GjkVertex<S> none;
     none.w.setConstant(std::numeric_limits<S>::quiet_NaN());
     gjk_finish(a, pose_a, b, settings, r, status, v, std::sqrt(size2), S(0), none, true);
@@ -1124,8 +1334,10 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
 }  // namespace detail
 
 /// Separation distance between shape `a` placed by `pose_a` and shape `b` placed by `pose_b`, with
-/// closest points and normal in the world frame. Const, noexcept, thread-safe; `cache` (optional,
-/// caller-owned, per pair) warm-starts the search and is updated.
+/// closest points and normal in the world frame. `separated` is certified as for gjk_intersect (some support
+/// plane bound exceeded the touching tolerance, else the wide-type continuation decides, else `touching`);
+/// the distance and normal are those of the closest point |v|. Const, noexcept, thread-safe; `cache`
+/// (optional, caller-owned, per pair) warm-starts the search and is updated.
 template <SupportMapped A, SupportMapped B>
     requires std::same_as<typename A::Scalar, typename B::Scalar>
 [[nodiscard]] inline GjkResult<typename A::Scalar> gjk_distance(
@@ -1137,6 +1349,15 @@ template <SupportMapped A, SupportMapped B>
 
 /// Boolean intersection test with early exit as soon as a separating plane is found. `status` is
 /// `separated`, `touching` or `intersecting` (or `max_iterations`/`degenerate`); use `colliding()`.
+/// Guarantee: `separated` is only answered with a proven plane — a direction u and a support point w of A − B
+/// along −u with u·w/|u| above the touching tolerance (256ε·size; van den Bergen 1999's lower bound), or
+/// disjoint bounding balls; `normal` is that direction and `distance` that bound (≤ the true distance, up to
+/// the support maps' rounding). When GJK stops without such a plane (near contact on curved shapes, where the
+/// double sub-simplex step can misplace v), the query goes on with the steps in a wider type
+/// (`detail::certify_separation`) and, if that decides nothing, answers `touching`: conservative for collision
+/// detection, and only pairs within the rounding of contact get there. `intersecting` is answered with four
+/// points of A − B around the origin, a point of one shape strictly inside the other, or overlapping inner
+/// balls / margins.
 /// Const, noexcept, thread-safe; `cache` as for gjk_distance.
 template <SupportMapped A, SupportMapped B>
     requires std::same_as<typename A::Scalar, typename B::Scalar>

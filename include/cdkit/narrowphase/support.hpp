@@ -24,6 +24,12 @@
 #else
 #define CDKIT_ALWAYS_INLINE inline
 #endif
+/// Keeps a rare path (GJK's certification of exits without a plane) out of line, off the hot loop's code.
+#if defined(__GNUC__) || defined(__clang__)
+#define CDKIT_COLD_PATH __attribute__((noinline, cold))
+#else
+#define CDKIT_COLD_PATH
+#endif
 
 namespace cdkit {
 
