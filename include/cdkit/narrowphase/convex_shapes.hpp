@@ -90,6 +90,24 @@ template <class S = double> struct Box {
         return (std::abs(p[0]) < half[0] - slack) & (std::abs(p[1]) < half[1] - slack) &
                (std::abs(p[2]) < half[2] - slack);
     }
+    /// The outward face normal ±e_i whose face plane p lies farthest outside of, |p_i| − h_i largest
+    /// (HasCandidateAxes). Branch-free: which face wins varies from query to query.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> candidate_axis(const Vec3<S>& p) const noexcept {
+        const S ex = std::abs(p[0]) - half[0], ey = std::abs(p[1]) - half[1], ez = std::abs(p[2]) - half[2];
+        const bool x = (ex >= ey) & (ex >= ez);
+        const bool y = !x & (ey >= ez);
+        const bool z = !x & !y;
+        return {S(x) * std::copysign(S(1), p[0]), S(y) * std::copysign(S(1), p[1]), S(z) * std::copysign(S(1), p[2])};
+    }
+    /// The direction e_k of the edges nearest to p (HasCandidateAxes): k the axis p lies least outside of (for p
+    /// beyond two faces, the edge between them).
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> candidate_edge(const Vec3<S>& p) const noexcept {
+        const S ex = std::abs(p[0]) - half[0], ey = std::abs(p[1]) - half[1], ez = std::abs(p[2]) - half[2];
+        const bool x = (ex <= ey) & (ex <= ez);
+        const bool y = !x & (ey <= ez);
+        const bool z = !x & !y;
+        return {S(x), S(y), S(z)};
+    }
 };
 
 /// A capsule: the segment z ∈ [-half_length, half_length] grown by `radius`.

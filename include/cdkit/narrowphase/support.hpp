@@ -82,6 +82,19 @@ concept HasContainmentTest = SupportMapped<T> &&
                                  { s.contains_strictly(p, slack) } -> std::convertible_to<bool>;
                              };
 
+/// A shape that can name likely separating directions towards a point p (local frame): `candidate_axis(p)`, an
+/// outward normal (non-zero) of the face whose plane p lies farthest outside of, and `candidate_edge(p)`, the unit
+/// direction of the edge nearest p. When p is the other shape's point nearest to this one, that face's normal is
+/// the separating axis of a vertex–face contact, and the cross product of the two shapes' nearest edges the one of
+/// an edge–edge contact (the separating axis theorem: Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996). The
+/// cold boolean GJK tries them with its plane test before its loop; any direction is safe, a wrong one only costs
+/// a support pair.
+template <class T>
+concept HasCandidateAxes = SupportMapped<T> && requires(const T& s, const Vec3<typename T::Scalar>& p) {
+    { s.candidate_axis(p) } -> std::convertible_to<Vec3<typename T::Scalar>>;
+    { s.candidate_edge(p) } -> std::convertible_to<Vec3<typename T::Scalar>>;
+};
+
 namespace detail {
 /// x rounded outwards by a few ulps: a radius computed with a handful of rounded operations (a sqrt, a sum)
 /// is within 4ε relative of the true value, so these give a certain upper / lower bound.
