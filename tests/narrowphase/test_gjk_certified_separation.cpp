@@ -14,6 +14,7 @@
 #include <cdkit/narrowphase/gjk.hpp>
 
 #include "convex_reference.hpp"
+#include "near_contact_pose.hpp"
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
@@ -71,19 +72,9 @@ void run_pair(const A& a, const AL& a_l, const B& b, const BL& b_l, std::mt19937
     exact.rel_tolerance = L(1e-16);
     const double size = a.bounding_radius() + b.bounding_radius();
     for (const double g : {1e-9, 1e-12, 0.0, -1e-12, -1e-9}) {
-        const Vec3<double> offset = unit(rng) * size * std::pow(10.0, std::uniform_int_distribution<int>(-1, 2)(rng));
-        const Transform<double> pa(test::random_rotation(rng), offset);
-        Transform<double> pb(test::random_rotation(rng), offset + unit(rng) * (1.5 * size));
+        Transform<double> pa, pb;
+        if (!test::place_near_contact(a_l, b_l, size, g, rng, pa, pb)) continue;
         const Transform<L> pa_l(pa.R.template cast<L>(), pa.t.template cast<L>());
-        bool placed = true;
-        for (const double target : {1e-3 * size, g * size, g * size}) {
-            const Transform<L> pb_l(pb.R.template cast<L>(), pb.t.template cast<L>());
-            const auto d = gjk_distance(a_l, pa_l, b_l, pb_l, nullptr, exact);
-            if (d.status != GjkStatus::separated) { placed = false; break; }  // needs a normal
-            pb.t = (pb_l.t + (L(target) - d.distance) * d.normal).template cast<double>();
-            if (target == g * size && g <= 0) break;  // overlapping: no distance to refine on
-        }
-        if (!placed) continue;
         ++t.cases;
         const Transform<L> pb_l(pb.R.template cast<L>(), pb.t.template cast<L>());
         const auto ref = gjk_distance(a_l, pa_l, b_l, pb_l, nullptr, exact);

@@ -12,6 +12,7 @@
 #include <cdkit/narrowphase/gjk.hpp>
 
 #include "mesh_factory.hpp"
+#include "near_contact_pose.hpp"
 #include "test_common.hpp"
 
 #include <random>
@@ -107,20 +108,9 @@ TEST_CASE("containment certificate changes no boolean answer near contact", "[gj
     auto run = [&](const auto& a, const auto& b, const auto& a_l, const auto& b_l, bool boxes) {
         for (double g : gaps) {
             const double size = a.bounding_radius() + b.bounding_radius();
-            const double offset_scale = size * std::pow(10.0, std::uniform_int_distribution<int>(-1, 2)(rng));
-            const Vec3<double> offset = unit(rng) * offset_scale;
-            const Transform<double> pa(test::random_rotation(rng), offset);
-            Transform<double> pb(test::random_rotation(rng), offset + unit(rng) * (1.5 * size));
+            Transform<double> pa, pb;
+            if (!test::place_near_contact(a_l, b_l, size, g, rng, pa, pb)) continue;
             const Transform<L> pa_l(pa.R.template cast<L>(), pa.t.template cast<L>());
-            bool placed = true;
-            for (const double target : {1e-3 * size, g * size, g * size}) {
-                const Transform<L> pb_l(pb.R.template cast<L>(), pb.t.template cast<L>());
-                const auto d = gjk_distance(a_l, pa_l, b_l, pb_l, nullptr, exact);
-                if (d.status != GjkStatus::separated) { placed = false; break; }  // needs a normal
-                pb.t = (pb_l.t + (L(target) - d.distance) * d.normal).template cast<double>();
-                if (target == g * size && g <= 0) break;  // overlapping: no distance to refine on
-            }
-            if (!placed) continue;
             ++cases;
             const auto on = gjk_intersect(a, pa, b, pb);
             const auto plain = gjk_intersect(a, pa, b, pb, nullptr, off);

@@ -1235,7 +1235,11 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
         return;
     }
     const S vw0 = dot3(vw_dir, w0);
-    if (separates(vw0, vv, size2)) {
+    // The tolerance scales with the magnitudes whose rounding w0 carries: world coordinates, up to |t| away from
+    // the origin. |w0| alone shrinks to nothing on a touching pair and let a rounding-level gap pass as a plane
+    // (a cone–hull pair at gap 0, 100 sizes from the origin: "separated" at 2e-16 of the size). The |w0| test
+    // first: the magnitudes are only needed when it passes.
+    if (separates(vw0, vv, size2) && separates(vw0, vv, std::max(size2, std::max(norm2(pa), norm2(pb))))) {
         const S inv = S(1) / std::sqrt(vv);
         const Vec3<S> n = Vec3<S>(-vw_dir[0] * inv, -vw_dir[1] * inv, -vw_dir[2] * inv);  // A towards B
         r.iterations = 1;
@@ -1258,6 +1262,10 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
         s.size = 1;
         s.lambda[0] = S(1);
     }
+    // From here on in A's frame: the rounding of w is that of A's and B's local points and of rel's translation,
+    // so a plane or a touching verdict is judged against those magnitudes too (|w| alone vanishes on touching
+    // pairs). Computed when a plane test passes or the loop ends, not on every round.
+    auto with_magnitudes = [&](S sz2) { return std::max(std::max(sz2, norm2(sa)), std::max(norm2(sb), norm2(rel.t))); };
     // A's first support point in B's frame, for B's containment test and candidate axis.
     Vec3<S> a_in_b = Vec3<S>::Zero();
     if constexpr (HasContainmentTest<B> || HasCandidateAxes<B>) a_in_b = rotate_back(rel.R, minus(sa, rel.t));
@@ -1334,7 +1342,7 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
         size2 = std::max(size2, w2);
         const S dw = dot3(d, x.w);
         const S dd = momentum ? norm2(d) : vv;
-        if (separates(dw, dd, size2)) {
+        if (separates(dw, dd, size2) && separates(dw, dd, with_magnitudes(size2))) {
             const S inv = S(1) / std::sqrt(dd);
             const Vec3<S> n = Vec3<S>(-d[0] * inv, -d[1] * inv, -d[2] * inv);  // A towards B, in A's frame
             r.iterations = it + candidate_pairs;
@@ -1385,6 +1393,7 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
         vv = nvv;
     }
     r.iterations = it + candidate_pairs;
+    size2 = with_magnitudes(size2);
     // Every support plane was tested above with gjk_finish's threshold, so a "separated" exit here (gap test,
     // repeated point, no progress) has no plane behind it: certify it unless |v| already lies within the
     // tolerance (then gjk_finish answers touching, or intersecting inside the margins: no separation claimed).
