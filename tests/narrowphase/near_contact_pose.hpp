@@ -10,6 +10,12 @@
 
 namespace cdkit::test {
 
+/// A uniformly random unit vector (a normalised Gaussian triple).
+inline Vec3<double> random_unit(std::mt19937_64& rng) {
+    std::normal_distribution<double> g;
+    return Vec3<double>(g(rng), g(rng), g(rng)).normalized();
+}
+
 /// Poses pa, pb placing B at gap·size from A (gap < 0: overlapping by that much along the normal): random
 /// rotations, A up to 100 sizes from the origin (10^k · size, k ∈ {−1, 0, 1, 2}), B moved along long-double GJK's
 /// closest-point normal, first to 1e-3 of the size and then to the gap (twice for a gap > 0, refining on the
@@ -21,15 +27,11 @@ bool place_near_contact(const AL& a_l, const BL& b_l, double size, double gap, s
     using L = long double;
     GjkSettings<L> exact;
     exact.rel_tolerance = L(1e-16);
-    auto unit = [&rng] {
-        std::normal_distribution<double> g;
-        return Vec3<double>(g(rng), g(rng), g(rng)).normalized();
-    };
     const double offset_scale = size * std::pow(10.0, std::uniform_int_distribution<int>(-1, 2)(rng));
-    const Vec3<double> offset = unit() * offset_scale;
+    const Vec3<double> offset = random_unit(rng) * offset_scale;
     pa = Transform<double>(random_rotation(rng), offset);
     const Mat3<double> rb = random_rotation(rng);
-    pb = Transform<double>(rb, offset + unit() * (1.5 * size));
+    pb = Transform<double>(rb, offset + random_unit(rng) * (1.5 * size));
     const Transform<L> pa_l(pa.R.template cast<L>(), pa.t.template cast<L>());
     for (const double target : {1e-3 * size, gap * size, gap * size}) {
         const Transform<L> pb_l(pb.R.template cast<L>(), pb.t.template cast<L>());

@@ -26,10 +26,7 @@ namespace {
 
 using L = long double;
 
-Vec3<double> unit(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    return Vec3<double>(g(rng), g(rng), g(rng)).normalized();
-}
+using test::random_unit;
 
 /// True when `n` (world, unit) is ± a column of R to 1e-12: a box's face normal, which is what a candidate exit
 /// reports (the loop's directions are simplex points, not face normals, except by coincidence).
@@ -141,7 +138,7 @@ TEST_CASE("candidate axes never claim a plane at contact, and their planes separ
     std::mt19937_64 rng(1906);
     std::uniform_real_distribution<double> u(0.05, 0.1);
     std::vector<Vec3<double>> cloud;
-    for (int i = 0; i < 40; ++i) cloud.push_back(unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.3, 1)(rng)));
+    for (int i = 0; i < 40; ++i) cloud.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.3, 1)(rng)));
     std::vector<Vec3<L>> cloud_l;
     for (const auto& q : cloud) cloud_l.push_back(q.cast<L>());
     const ConvexPolyhedron<double> hull(cloud);
@@ -196,7 +193,7 @@ TEST_CASE("candidate axes agree with the plain loop on random pairs", "[gjk][can
         candidate += candidate_exit<std::decay_t<decltype(a)>, std::decay_t<decltype(b)>>(on, pa, pb);
     };
     std::vector<Vec3<double>> cloud;
-    for (int i = 0; i < 60; ++i) cloud.push_back(unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.3, 1)(rng)));
+    for (int i = 0; i < 60; ++i) cloud.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.3, 1)(rng)));
     const ConvexPolyhedron<double> hull(cloud);
     for (int k = 0; k < test::scaled(2000, 200); ++k) {
         const Vec3<double> e1(u(rng), u(rng), u(rng)), e2(u(rng), u(rng), u(rng));

@@ -27,10 +27,7 @@ namespace {
 
 using L = long double;
 
-Vec3<double> unit(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    return Vec3<double>(g(rng), g(rng), g(rng)).normalized();
-}
+using test::random_unit;
 
 /// Shape parameters drawn once per case; `make<K>` builds class K from them in double and in long double.
 struct Params {
@@ -137,7 +134,7 @@ TEST_CASE("every separated GJK answer is backed by a separating plane", "[gjk][c
     std::vector<std::vector<Vec3<double>>> clouds(6);
     std::uniform_real_distribution<double> u(0.3, 1.0);
     for (auto& c : clouds)
-        for (int i = 0; i < 40; ++i) c.push_back(unit(rng) * (0.1 * u(rng)));
+        for (int i = 0; i < 40; ++i) c.push_back(random_unit(rng) * (0.1 * u(rng)));
     const int orientations = test::scaled(150, 15);
     Tally tally[classes * classes];
     all_pairs<0, 0>(rng, clouds, orientations, tally);

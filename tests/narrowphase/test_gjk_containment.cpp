@@ -21,10 +21,7 @@ using namespace cdkit;
 
 namespace {
 
-Vec3<double> unit(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    return Vec3<double>(g(rng), g(rng), g(rng)).normalized();
-}
+using test::random_unit;
 
 /// Random points around the shape (inside and outside, some near the boundary); for each accepted point
 /// (contains_strictly(p, slack)) every sampled support plane lies at least `slack` beyond it:
@@ -36,7 +33,7 @@ template <class Shape> int check_conservative(const Shape& s, std::mt19937_64& r
     int accepted = 0, violated = 0;
     const int points = test::scaled(400, 40), normals = test::scaled(400, 60);
     std::vector<Vec3<double>> dirs;
-    for (int j = 0; j < normals; ++j) dirs.push_back(unit(rng));
+    for (int j = 0; j < normals; ++j) dirs.push_back(random_unit(rng));
     for (int k = 0; k < 3; ++k)
         for (double sg : {-1.0, 1.0}) {
             Vec3<double> n = Vec3<double>::Zero();
@@ -45,7 +42,7 @@ template <class Shape> int check_conservative(const Shape& s, std::mt19937_64& r
         }
     for (int i = 0; i < points; ++i) {
         // A support point pulled towards the centre by a factor in [0.9, 1] (near the boundary) or [0, 1].
-        const Vec3<double> q = s.support(unit(rng));
+        const Vec3<double> q = s.support(random_unit(rng));
         const double f = i % 2 ? 1 - 0.1 * u(rng) : u(rng);
         const Vec3<double> p = c + f * (q - c);
         if (!s.contains_strictly(p, slack)) continue;
@@ -198,7 +195,7 @@ TEST_CASE("containment certificate agrees with the plain loop on random overlapp
         run(Capsule<double>(r1 / 2, h1), Box<double>(Vec3<double>(h2, r2, r1)));
         if (k % 10 == 0) {
             std::vector<Vec3<double>> cloud;
-            for (int i = 0; i < 60; ++i) cloud.push_back(unit(rng) * 0.1 * u(rng));
+            for (int i = 0; i < 60; ++i) cloud.push_back(random_unit(rng) * 0.1 * u(rng));
             const ConvexPolyhedron<double> hull(cloud);
             for (int j = 0; j < 10; ++j) {
                 run(hull, Box<double>(Vec3<double>(h2, r2, r1)));
