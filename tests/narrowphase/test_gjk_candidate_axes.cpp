@@ -44,19 +44,33 @@ bool is_edge_cross(const Vec3<double>& n, const Mat3<double>& Ra, const Mat3<dou
     }
     return a && b;
 }
-/// A candidate-axis exit: "separated" after the first pair and at most three candidate pairs, along a face normal
-/// of either shape or (two boxes) an edge cross product.
+/// True when `n` is ± a face normal of `s` (a box's axes, a hull's face normals) turned by R, to 1e-12.
+template <class Shape> bool is_shape_face_normal(const Shape& s, const Mat3<double>& R, const Vec3<double>& n) {
+    if constexpr (std::is_same_v<Shape, Box<double>>) {
+        return is_face_normal(n, R);
+    } else if constexpr (std::is_same_v<Shape, ConvexPolyhedron<double>>) {
+        for (std::uint32_t f = 0; f < s.face_count(); ++f)
+            if (std::abs(std::abs(n.dot(R * s.face_normal(f))) - 1.0) < 1e-12) return true;
+        return false;
+    } else {
+        (void)s, (void)R, (void)n;
+        return false;
+    }
+}
+/// A candidate-axis exit: "separated" after the first pair and at most four candidate pairs, along a face normal
+/// of either shape (a box's, or a hull's found by its point location) or (two boxes) an edge cross product.
 template <class A, class B>
-bool candidate_exit(const GjkResult<double>& r, const Transform<double>& pa, const Transform<double>& pb) {
-    if (r.status != GjkStatus::separated || r.iterations < 2 || r.iterations > 4) return false;
-    const bool box_a = std::is_same_v<A, Box<double>>, box_b = std::is_same_v<B, Box<double>>;
-    return (box_a && is_face_normal(r.normal, pa.R)) || (box_b && is_face_normal(r.normal, pb.R)) ||
-           (box_a && box_b && is_edge_cross(r.normal, pa.R, pb.R));
+bool candidate_exit(const GjkResult<double>& r, const A& a, const Transform<double>& pa, const B& b,
+                    const Transform<double>& pb) {
+    if (r.status != GjkStatus::separated || r.iterations < 2 || r.iterations > 5) return false;
+    const bool boxes = std::is_same_v<A, Box<double>> && std::is_same_v<B, Box<double>>;
+    return is_shape_face_normal(a, pa.R, r.normal) || is_shape_face_normal(b, pb.R, r.normal) ||
+           (boxes && is_edge_cross(r.normal, pa.R, pb.R));
 }
 
 struct Tally {
     int cases = 0, candidate_exits = 0, claimed_at_contact = 0, unbacked = 0, bad_distance = 0, bad_points = 0;
-    int differ = 0, close_box = 0, close_box_decided = 0;
+    int differ = 0, close_box = 0, close_box_decided = 0, close_hulls = 0, close_hulls_decided = 0;
 };
 
 /// One pair at the relative gaps g (distance g·size, size = R_a + R_b), placed by long-double GJK on the double
@@ -82,10 +96,14 @@ void run_pair(const A& a, const AL& a_l, const B& b, const BL& b_l, bool boxes, 
         // The plain loop's answer wherever it is decisive and right; elsewhere (within the rounding of contact) the
         // candidate may only have found a plane the loop could not certify, which the checks below examine.
         if (decisive && off.colliding() == ref.colliding() && on.status != off.status) ++t.differ;
-        const bool candidate = candidate_exit<A, B>(on, pa, pb);
+        const bool candidate = candidate_exit(on, a, pa, b, pb);
         if (boxes && g >= 1e-4) {
             ++t.close_box;
             t.close_box_decided += candidate;
+        }
+        if (std::is_same_v<A, ConvexPolyhedron<double>> && std::is_same_v<B, ConvexPolyhedron<double>> && g >= 1e-4) {
+            ++t.close_hulls;
+            t.close_hulls_decided += candidate;
         }
         if (!candidate) continue;
         ++t.candidate_exits;
@@ -143,6 +161,13 @@ TEST_CASE("candidate axes never claim a plane at contact, and their planes separ
     for (const auto& q : cloud) cloud_l.push_back(q.cast<L>());
     const ConvexPolyhedron<double> hull(cloud);
     const ConvexPolyhedron<L> hull_l(cloud_l);
+    // A second hull, of 300 points (about 60 vertices: hill climbing and the walk's vertex fans), for hull pairs.
+    std::vector<Vec3<double>> cloud2;
+    for (int i = 0; i < 300; ++i) cloud2.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.5, 1)(rng)));
+    std::vector<Vec3<L>> cloud2_l;
+    for (const auto& q : cloud2) cloud2_l.push_back(q.cast<L>());
+    const ConvexPolyhedron<double> hull2(cloud2);
+    const ConvexPolyhedron<L> hull2_l(cloud2_l);
     Tally t;
     for (int k = 0; k < test::scaled(60, 8); ++k) {
         // B scaled by 10^j, j ∈ [−3, 3]: scale ratios up to 1e6 between the pairs' extremes.
@@ -155,14 +180,17 @@ TEST_CASE("candidate axes never claim a plane at contact, and their planes separ
                  false, rng, t);
         run_pair(Cone<double>(r1, h1), Cone<L>(r1, h1), Box<double>(s * e2), Box<L>((s * e2).cast<L>()), false, rng, t);
         run_pair(hull, hull_l, Box<double>(e2), Box<L>(e2.cast<L>()), false, rng, t);
+        run_pair(hull, hull_l, hull2, hull2_l, false, rng, t);
+        run_pair(Cone<double>(s * r1, s * h1), Cone<L>(s * r1, s * h1), hull2, hull2_l, false, rng, t);
         run_pair(Box<double>(e1), Box<L>(e1.cast<L>()), Capsule<double>(s * r2 / 2, s * h2), Capsule<L>(s * r2 / 2, s * h2),
                  false, rng, t);
         run_pair(Sphere<double>(s * r2), Sphere<L>(s * r2), Box<double>(e1), Box<L>(e1.cast<L>()), false, rng, t);
         run_pair(Box<double>(e1), Box<L>(e1.cast<L>()), Ellipsoid<double>(e2), Ellipsoid<L>(e2.cast<L>()), false, rng, t);
     }
     INFO(t.cases << " cases, " << t.candidate_exits << " candidate exits; close box pairs " << t.close_box_decided
-                 << " of " << t.close_box << " decided by a candidate axis");
-    CHECK(t.cases >= test::scaled(60, 8) * 8 * 12 * 9 / 10);
+                 << " of " << t.close_box << ", close hull pairs " << t.close_hulls_decided << " of " << t.close_hulls
+                 << " decided by a candidate axis");
+    CHECK(t.cases >= test::scaled(60, 8) * 10 * 12 * 9 / 10);
     CHECK(t.claimed_at_contact == 0);
     CHECK(t.unbacked == 0);
     CHECK(t.bad_distance == 0);
@@ -172,6 +200,8 @@ TEST_CASE("candidate axes never claim a plane at contact, and their planes separ
     // or an edge cross product (65 % of them at scale 1).
     CHECK(t.candidate_exits > 0);
     CHECK(t.close_box_decided >= t.close_box * 2 / 5);
+    // Hull pairs: the face a point location finds the other's support point beyond (vertex–face contacts).
+    CHECK(t.close_hulls_decided >= t.close_hulls / 5);
 }
 
 TEST_CASE("candidate axes agree with the plain loop on random pairs", "[gjk][candidate]") {
@@ -190,7 +220,7 @@ TEST_CASE("candidate axes agree with the plain loop on random pairs", "[gjk][can
         ++n;
         differ += on.status != off.status;
         separated += on.status == GjkStatus::separated;
-        candidate += candidate_exit<std::decay_t<decltype(a)>, std::decay_t<decltype(b)>>(on, pa, pb);
+        candidate += candidate_exit(on, a, pa, b, pb);
     };
     std::vector<Vec3<double>> cloud;
     for (int i = 0; i < 60; ++i) cloud.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.3, 1)(rng)));
@@ -201,6 +231,8 @@ TEST_CASE("candidate axes agree with the plain loop on random pairs", "[gjk][can
         run(Box<double>(e1), Cylinder<double>(e2[0], e2[1]));
         run(Cone<double>(e2[0], e2[1]), Box<double>(e1));
         run(hull, Box<double>(e1));
+        run(hull, hull);
+        run(Cone<double>(e2[0], e2[1]), hull);
         run(Box<double>(e1), Capsule<double>(e2[0] / 2, e2[1]));
         run(Ellipsoid<double>(e2), Box<double>(e1));
     }

@@ -3,8 +3,10 @@
 // shape, checked against the support map) and not useless; the certificate never fires on a pair that is apart
 // or touching (placed by long-double GJK at 1e-12 of its size and at 0, scale ratios up to 1e6, offsets up to 100
 // sizes), never contradicts long-double GJK, never turns a right answer of the plain loop wrong, gives the plain
-// loop's status on random pairs, and decides most shallow box overlaps after one support pair; with the plain loop
-// certified, neither is ever wrong where long-double GJK decides.
+// loop's status on random pairs (where the loop said "touching" it may prove "intersecting"), and decides most
+// shallow box overlaps after one support pair; with the plain loop certified, neither is ever wrong where
+// long-double GJK decides. Hulls (a walk through the tetrahedra centre–triangle, ConvexPolyhedron::locate) are
+// checked against every face plane in long double, from every start, near vertices and far from the origin.
 #include <catch2/catch.hpp>
 
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
@@ -25,8 +27,10 @@ using test::random_unit;
 
 /// Random points around the shape (inside and outside, some near the boundary); for each accepted point
 /// (contains_strictly(p, slack)) every sampled support plane lies at least `slack` beyond it:
-/// n·p + slack ≤ n·s(n) for unit n. Returns how many points were accepted.
-template <class Shape> int check_conservative(const Shape& s, std::mt19937_64& rng, double slack) {
+/// n·p + slack ≤ n·s(n) for unit n. Returns how many points were accepted. `jitter` (relative to the bounding
+/// radius) moves the points off the rays from the centre through the support points: a hull's walk cannot
+/// certify points on those rays (they lie on the planes between its tetrahedra) and answers false there.
+template <class Shape> int check_conservative(const Shape& s, std::mt19937_64& rng, double slack, double jitter = 0) {
     const double R = s.bounding_radius();
     const Vec3<double> c = s.center();
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -44,7 +48,8 @@ template <class Shape> int check_conservative(const Shape& s, std::mt19937_64& r
         // A support point pulled towards the centre by a factor in [0.9, 1] (near the boundary) or [0, 1].
         const Vec3<double> q = s.support(random_unit(rng));
         const double f = i % 2 ? 1 - 0.1 * u(rng) : u(rng);
-        const Vec3<double> p = c + f * (q - c);
+        Vec3<double> p = c + f * (q - c);
+        if (jitter > 0) p += jitter * R * random_unit(rng);
         if (!s.contains_strictly(p, slack)) continue;
         ++accepted;
         for (const Vec3<double>& n : dirs)
@@ -70,6 +75,22 @@ TEST_CASE("strict containment tests are conservative and not useless", "[gjk][co
         CHECK(check_conservative(Cone<double>(0.3, 0.05), rng, slack) > points / 5);
         CHECK(check_conservative(Cone<double>(0.2, 0.2), rng, slack) > points / 5);
     }
+    // Hulls (point location by a walk): round, thin (a slab 1e-3 thick) and far from their frame's origin.
+    std::uniform_real_distribution<double> radial(0.5, 1.0);
+    std::vector<Vec3<double>> round, thin, far;
+    for (int i = 0; i < 200; ++i) {
+        const Vec3<double> q = random_unit(rng) * 0.1 * radial(rng);
+        round.push_back(q);
+        thin.push_back(Vec3<double>(q[0], q[1], 1e-2 * q[2]));
+        far.push_back(q + Vec3<double>(300.0, -200.0, 50.0));
+    }
+    for (double slack : {0.0, 1e-12, 1e-3}) {
+        INFO("hulls, slack " << slack);
+        const int points = test::scaled(400, 40);
+        CHECK(check_conservative(ConvexPolyhedron<double>(round), rng, slack, 0.05) > points / 4);
+        CHECK(check_conservative(ConvexPolyhedron<double>(thin), rng, slack, 0.05) >= 0);
+        CHECK(check_conservative(ConvexPolyhedron<double>(far), rng, slack, 0.05) > points / 4);
+    }
     // A slack larger than the shape accepts nothing (a negative shrunk radius must not square to a positive one).
     const Cylinder<double> cyl(0.1, 0.3);
     CHECK_FALSE(cyl.contains_strictly(Vec3<double>::Zero(), 0.2));
@@ -79,6 +100,80 @@ TEST_CASE("strict containment tests are conservative and not useless", "[gjk][co
     const Box<double> box(Vec3<double>(0.1, 0.2, 0.3));
     CHECK_FALSE(box.contains_strictly(Vec3<double>::Zero(), 0.1));
     CHECK(box.contains_strictly(Vec3<double>::Zero(), 0.099));
+}
+
+TEST_CASE("hull point location is conservative against every face plane, and its axes are planes p lies beyond",
+          "[gjk][containment]") {
+    // Against the exact answer up to long double: the least distance from p to the hull triangles' planes (each
+    // plane computed in long double from its corners). `inside` needs that distance above the slack; an `axis` must
+    // be an outward face normal whose plane p lies beyond (beyond every vertex along it); every start (no hint, a
+    // random vertex, the support vertex towards p, an out-of-range index) must be conservative, and deep points
+    // (more than slack + 1e-9 of the size inside) must be found from all of them.
+    using L = long double;
+    std::mt19937_64 rng(704);
+    std::uniform_real_distribution<double> u(0.0, 1.0), radial(0.5, 1.0);
+    int wrong_inside = 0, wrong_axis = 0, deep = 0, deep_found = 0, outside = 0, outside_axis = 0;
+    for (int h = 0; h < test::scaled(12, 3); ++h) {
+        std::vector<Vec3<double>> cloud;
+        const int n = h % 3 == 0 ? 8 : (h % 3 == 1 ? 100 : 2000);
+        const Vec3<double> offset = h % 4 == 3 ? Vec3<double>(1e3, -2e3, 5e2) : Vec3<double>::Zero();
+        for (int i = 0; i < n; ++i) cloud.push_back(offset + random_unit(rng) * radial(rng));
+        const ConvexPolyhedron<double> hull(cloud);
+        const auto& V = hull.vertices();
+        std::vector<std::pair<Vec3<L>, L>> planes;  // outward unit normal, offset
+        for (const auto& t : hull.triangles()) {
+            const Vec3<L> a = V[t[0]].cast<L>(), b = V[t[1]].cast<L>(), c = V[t[2]].cast<L>();
+            const Vec3<L> nn = (b - a).cross(c - a).normalized();
+            planes.emplace_back(nn, nn.dot(a));
+        }
+        for (int i = 0; i < test::scaled(4000, 400); ++i) {
+            // Around a support point: pulled in, pushed out, or jittered (near faces, edges and vertices).
+            const Vec3<double> d = random_unit(rng);
+            const Vec3<double> c = hull.center(), q = hull.support(d);
+            const int kind = i % 4;
+            // (Off the rays from the centre through the vertices by 1e-6: points on them lie on the planes
+            // between the walk's tetrahedra, which it cannot certify; it answers false there, see check_conservative.)
+            Vec3<double> p = kind == 0 ? Vec3<double>(c + u(rng) * (q - c))
+                             : kind == 1 ? Vec3<double>(c + (1.0 + 0.01 * (u(rng) - 0.5)) * (q - c))
+                                         : Vec3<double>(q + std::pow(10.0, -12 * u(rng)) * random_unit(rng));
+            if (kind == 3) p = c + 1.3 * u(rng) * (p - c);
+            if (kind != 2) p += 1e-6 * random_unit(rng);
+            const double slack = i % 3 == 0 ? 0.0 : (i % 3 == 1 ? 1e-12 : 1e-4);
+            const Vec3<L> pl = p.cast<L>();
+            L least = std::numeric_limits<L>::infinity();
+            for (const auto& [nn, off] : planes) least = std::min(least, off - nn.dot(pl));
+            const std::uint32_t hints[4] = {std::uint32_t(-1), std::uint32_t(rng() % V.size()), hull.support_index(p - c),
+                                            std::uint32_t(V.size() + 7)};
+            // Deep: inside by more than 1e-9 beyond the slack (a slack of 1e-4 is also needed from the tetrahedron's
+            // sides, which a point inside by 1e-4 need not clear: only the conservative checks for it).
+            const bool is_deep = slack < 1e-4 && least > L(slack) + L(1e-9 * hull.radius());
+            deep += is_deep;
+            outside += least < 0;
+            bool found = true;
+            for (std::uint32_t hint : hints) {
+                const PointLocation<double> r = hull.locate(p, slack, hint);
+                wrong_inside += r.inside && !(least > L(slack));
+                found = found && r.inside;
+                if (r.axis != Vec3<double>::Zero()) {
+                    outside_axis += hint == hints[2];
+                    // Beyond the plane through the farthest vertex along the axis, in long double.
+                    const Vec3<L> nn = r.axis.cast<L>();
+                    L top = -std::numeric_limits<L>::infinity();
+                    for (const auto& v : V) top = std::max(top, nn.dot(v.cast<L>()));
+                    wrong_axis += r.inside || !(nn.dot(pl) > top - L(1e-15) * (L(1) + pl.norm()));
+                    wrong_axis += std::abs(double(nn.norm()) - 1.0) > 1e-12;
+                }
+            }
+            CHECK(hull.contains_strictly(p, slack) == hull.locate(p, slack, std::uint32_t(-1)).inside);
+            deep_found += is_deep && found;
+        }
+    }
+    INFO(deep << " deep points, " << deep_found << " found from every start; " << outside << " outside, "
+              << outside_axis << " with an axis from the support vertex's fan");
+    CHECK(wrong_inside == 0);
+    CHECK(wrong_axis == 0);
+    CHECK(deep_found == deep);
+    CHECK(outside_axis > outside / 4);
 }
 
 TEST_CASE("containment certificate changes no boolean answer near contact", "[gjk][containment]") {
@@ -125,7 +220,11 @@ TEST_CASE("containment certificate changes no boolean answer near contact", "[gj
                 if (decisive) {
                     const bool truth = ref.colliding();
                     if (on.colliding() != truth && certified) ++certified_wrong;
-                    if (plain.colliding() == truth && (on.colliding() != truth || on.status != plain.status)) ++differ;
+                    // (A "touching" of the plain loop may become "intersecting" when a point is certified strictly
+                    // inside the other shape: a proof of overlap beyond the loop's tolerance.)
+                    const bool proven_deeper = plain.status == GjkStatus::touching && certified;
+                    if (plain.colliding() == truth && (on.colliding() != truth || (on.status != plain.status && !proven_deeper)))
+                        ++differ;
                     if (plain.colliding() != truth && on.colliding() == truth) ++corrected;
                     if (plain.colliding() != truth && on.colliding() != truth) ++both_wrong;
                     plain_wrong += plain.colliding() != truth;
@@ -153,6 +252,21 @@ TEST_CASE("containment certificate changes no boolean answer near contact", "[gj
         run(Ellipsoid<double>(e1), Cylinder<double>(s * r2, s * h2), Ellipsoid<L>(e1.cast<L>()),
             Cylinder<L>(s * r2, s * h2), false);
         run(Cone<double>(s * r1, s * h1), Box<double>(e2), Cone<L>(s * r1, s * h1), Box<L>(e2.cast<L>()), false);
+        if (k % 4 == 0) {
+            // Hulls of 40 and 400 points (walks from the support vertices' fans), and a cone against one.
+            std::vector<Vec3<double>> c1, c2;
+            for (int i = 0; i < 40; ++i) c1.push_back(random_unit(rng) * 0.1 * u(rng));
+            for (int i = 0; i < 400; ++i) c2.push_back(random_unit(rng) * 0.1 * s * u(rng));
+            std::vector<Vec3<L>> c1l, c2l;
+            for (const auto& q : c1) c1l.push_back(q.cast<L>());
+            for (const auto& q : c2) c2l.push_back(q.cast<L>());
+            const ConvexPolyhedron<double> h1d(c1), h2d(c2);
+            const ConvexPolyhedron<L> h1l(c1l), h2l(c2l);
+            for (int rep = 0; rep < 3; ++rep) {
+                run(h1d, h2d, h1l, h2l, false);
+                run(Cone<double>(r1, h1), h2d, Cone<L>(r1, h1), h2l, false);
+            }
+        }
     }
     INFO(cases << " cases; " << overlapping << " placed at g ≤ −1e-6, " << fired << " decided by containment; boxes "
                << box_fired << " of " << box_overlaps << "; plain loop wrong at |g| ≥ 1e-9: " << corrected
@@ -200,6 +314,7 @@ TEST_CASE("containment certificate agrees with the plain loop on random overlapp
             for (int j = 0; j < 10; ++j) {
                 run(hull, Box<double>(Vec3<double>(h2, r2, r1)));
                 run(Cone<double>(r1, h1), hull);
+                run(hull, hull);
             }
         }
     }

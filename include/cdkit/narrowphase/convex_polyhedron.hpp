@@ -9,6 +9,12 @@
 /// from a vertex looked up by direction in a small table built with the hull (the support vertices of the
 /// cells of a cube map around the unit sphere), which is the answer or next to it.
 ///
+/// A strict containment test (`contains_strictly`, the cold boolean GJK's overlap certificate) walks the
+/// tetrahedra that join the centre to the hull triangles: the centre is strictly inside, so they tile the hull
+/// and central projection makes the triangles a spherical triangulation, located by a visibility walk (Devillers,
+/// Pion, Teillaud, "Walking in a triangulation", IJFCS 2002) from the triangles around a support vertex near the
+/// point (GJK's hint), or else from a direction table like the support map's.
+///
 /// It also keeps the boundary as polygons (coplanar facets merged by Qhull) with a face–edge–vertex
 /// adjacency, outward unit face normals and the edge and face Voronoi-plane directions that
 /// closest-feature tracking (narrowphase/closest_features.hpp) walks.
@@ -92,6 +98,7 @@ public:
         }
         build_topology(h.faces);
         build_balls();
+        build_cones();
         // Hill-climbing seeds: the extreme vertices along ±x, ±y, ±z.
         for (int axis = 0; axis < 3; ++axis)
             for (int sgn = -1; sgn <= 1; sgn += 2) {
@@ -163,6 +170,69 @@ public:
         return triangles_;
     }
 
+    /// True only when the ball of radius `slack` about p (local frame) lies inside the hull (HasContainmentTest);
+    /// see locate(). Const, noexcept, thread-safe.
+    [[nodiscard]] bool contains_strictly(const Vec3<S>& p, S slack) const noexcept {
+        return locate(p, slack, std::uint32_t(-1)).inside;
+    }
+    /// Point location (HasPointLocation). `inside` only when p lies more than slack + the planes' rounding bound
+    /// inside the four planes of one tetrahedron (centre, hull triangle), found by walking towards p across the
+    /// side whose plane p lies behind; false, never wrong, for points near the boundary or a side, a walk longer
+    /// than `containment_walk_limit` steps, or a hull whose centre is not certified inside (inner_radius() = 0).
+    /// The walk starts among the triangles around vertex `near` (a support vertex near p, as GJK's hint; one out
+    /// of range is ignored: the direction table's tetrahedron), whose planes are tested first: p outside the hull
+    /// near that vertex, as a separated pair's support point is, lies beyond one of them, and `axis` is then the
+    /// normal of the one it lies farthest beyond (a candidate separating axis), found without a walk.
+    /// Const, noexcept, thread-safe.
+    [[nodiscard]] PointLocation<S> locate(const Vec3<S>& p, S slack, std::uint32_t near) const noexcept {
+        PointLocation<S> out;
+        if (cones_.empty()) return out;
+        // Points of the hull lie within radius() of the origin, and the planes' error bound assumes it.
+        if (!(std::abs(p[0]) <= radius_ && std::abs(p[1]) <= radius_ && std::abs(p[2]) <= radius_)) return out;
+        const S margin = slack + containment_error_;
+        std::uint32_t t = 0;
+        if (near < vertex_begin_cone_.size() - 1) {
+            // The triangles around the vertex: the plane p clears least is the likely exit of the ray from the
+            // centre through p (where the walk starts), and one it does not clear proves it outside.
+            S least = std::numeric_limits<S>::infinity();
+            for (std::uint32_t i = vertex_begin_cone_[near]; i < vertex_begin_cone_[near + 1]; ++i) {
+                const CentralCone& k = cones_[vertex_cone_[i]];
+                const S d = k.offset - detail::dot3(k.normal, p);
+                if (d < least) { least = d; t = vertex_cone_[i]; }
+            }
+            if (!(least > margin)) {
+                if (least < S(0)) out.axis = cones_[t].normal;
+                return out;
+            }
+        } else {
+            const int cell = direction_cell(detail::minus(p, center_));
+            if (cell < 0) return out;  // p at the centre (or a subnormal offset): left to GJK
+            t = cone_table_[std::size_t(cell)];
+        }
+        for (int step = 0; step < containment_walk_limit; ++step) {
+            const CentralCone& k = cones_[t];
+            // The triangle's plane supports the hull: a ball that reaches it is not inside.
+            const S d = k.offset - detail::dot3(k.normal, p);
+            if (!(d > margin)) {
+                if (d < S(0)) out.axis = k.normal;
+                return out;
+            }
+            const S s0 = detail::dot3(k.side[0], p) - k.side_offset[0];
+            const S s1 = detail::dot3(k.side[1], p) - k.side_offset[1];
+            const S s2 = detail::dot3(k.side[2], p) - k.side_offset[2];
+            const int e = s0 <= s1 ? (s0 <= s2 ? 0 : 2) : (s1 <= s2 ? 1 : 2);
+            const S low = std::min(s0, std::min(s1, s2));
+            if (low > margin) {
+                out.inside = true;
+                return out;
+            }
+            if (!(low < S(0))) return out;  // in this tetrahedron but too near a side (or NaN)
+            t = k.next[std::size_t(e)];
+        }
+        return out;
+    }
+    /// Steps the containment walk takes before it gives up (answers false).
+    static constexpr int containment_walk_limit = 32;
 
     /// \name Boundary topology (faces are polygons; all directions are in the local frame)
     /// @{
@@ -305,20 +375,91 @@ private:
     /// it: the climb still ends at a vertex no neighbour beats, the global maximum.
     void build_start_table() {
         if (vertices_.size() <= brute_force_limit) return;
-        start_table_.resize(std::size_t(6 * table_res * table_res));
-        for (int face = 0; face < 6; ++face)
-            for (int i = 0; i < table_res; ++i)
-                for (int j = 0; j < table_res; ++j) {
-                    const int axis = face / 2;
-                    Vec3<S> d;
-                    d[axis] = face % 2 ? S(-1) : S(1);
-                    d[(axis + 1) % 3] = S(2 * i + 1) / S(table_res) - S(1);
-                    d[(axis + 2) % 3] = S(2 * j + 1) / S(table_res) - S(1);
-                    start_table_[std::size_t((face * table_res + i) * table_res + j)] = brute_force_index(d);
-                }
+        start_table_.resize(std::size_t(cells));
+        for (int cell = 0; cell < cells; ++cell) start_table_[std::size_t(cell)] = brute_force_index(cell_direction(cell));
     }
-    /// The table's start vertex for direction d; uint32(-1) when d is zero or not finite.
-    [[nodiscard]] CDKIT_ALWAYS_INLINE std::uint32_t table_start(const Vec3<S>& d) const noexcept {
+    static constexpr int cells = 6 * table_res * table_res;
+
+    /// The tetrahedra (centre, hull triangle) of contains_strictly, their neighbours and error bound, and the
+    /// table of the tetrahedron around each cell's centre direction. Planes are computed in long double and
+    /// rounded; the error bound covers, for |p|∞ ≤ radius(), the rounding of the stored planes (a normalised
+    /// cross product loses about ε_W·|a||b|/|a × b| in the wide type, counted per plane) and of their evaluation
+    /// in S, with a factor 4 to spare. Only hulls whose centre is certified inside (inner_radius() > 0) and whose
+    /// triangles close up (every edge in two of them, opposite ways) get them.
+    void build_cones() {
+        using W = long double;
+        if (!(inner_radius_ > S(0))) return;
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> owner;  // directed edge → triangle
+        for (std::uint32_t t = 0; t < triangles_.size(); ++t)
+            for (int e = 0; e < 3; ++e) owner[{triangles_[t][std::size_t(e)], triangles_[t][std::size_t((e + 1) % 3)]}] = t;
+        const Vec3<W> c = center_.template cast<W>();
+        W worst = 1;  // largest |a||b|/|a × b| over the planes
+        std::vector<CentralCone> cones(triangles_.size());
+        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+            const auto& tri = triangles_[t];
+            const Vec3<W> v[3] = {vertices_[tri[0]].template cast<W>(), vertices_[tri[1]].template cast<W>(),
+                                  vertices_[tri[2]].template cast<W>()};
+            CentralCone& k = cones[t];
+            const Vec3<W> a = v[1] - v[0], b = v[2] - v[0];
+            Vec3<W> n = a.cross(b);
+            const W len = n.norm();
+            if (!(len > W(0))) return;  // a sliver triangle: no containment test for this hull
+            worst = std::max(worst, a.norm() * b.norm() / len);
+            n /= len;
+            k.normal = n.template cast<S>();
+            k.offset = S(n.dot(v[0]));
+            for (int e = 0; e < 3; ++e) {
+                const Vec3<W> p = v[e] - c, q = v[(e + 1) % 3] - c;
+                Vec3<W> m = p.cross(q);
+                const W l = m.norm();
+                if (!(l > W(0))) return;
+                worst = std::max(worst, p.norm() * q.norm() / l);
+                if (m.dot(v[(e + 2) % 3] - c) < W(0)) m = -m;  // towards the tetrahedron's inside
+                m /= l;
+                k.side[std::size_t(e)] = m.template cast<S>();
+                k.side_offset[std::size_t(e)] = S(m.dot(c));
+                const auto across = owner.find({tri[std::size_t((e + 1) % 3)], tri[std::size_t(e)]});
+                if (across == owner.end()) return;
+                k.next[std::size_t(e)] = across->second;
+            }
+        }
+        const W bound = W(64) * (W(std::numeric_limits<S>::epsilon()) + W(16) * std::numeric_limits<W>::epsilon() * worst) *
+                        W(radius_);
+        if (!(bound < W(radius_))) return;
+        containment_error_ = detail::round_up(S(bound));
+        cones_ = std::move(cones);
+        // The triangles around each vertex, in CSR form.
+        vertex_begin_cone_.assign(vertices_.size() + 1, 0);
+        for (const auto& tri : triangles_)
+            for (std::uint32_t v : tri) ++vertex_begin_cone_[v + 1];
+        for (std::size_t v = 0; v < vertices_.size(); ++v) vertex_begin_cone_[v + 1] += vertex_begin_cone_[v];
+        vertex_cone_.resize(3 * triangles_.size());
+        std::vector<std::uint32_t> fill(vertex_begin_cone_.begin(), vertex_begin_cone_.end() - 1);
+        for (std::uint32_t t = 0; t < triangles_.size(); ++t)
+            for (std::uint32_t v : triangles_[t]) vertex_cone_[fill[v]++] = t;
+        // Each cell's tetrahedron: a walk from the previous cell's (neighbouring cells are near), else a scan.
+        cone_table_.resize(std::size_t(cells));
+        std::uint32_t t = 0;
+        for (int cell = 0; cell < cells; ++cell) {
+            const Vec3<S> d = cell_direction(cell);
+            auto low = [&](std::uint32_t i, int& e) {
+                const CentralCone& k = cones_[i];
+                const S s0 = k.side[0].dot(d), s1 = k.side[1].dot(d), s2 = k.side[2].dot(d);
+                e = s0 <= s1 ? (s0 <= s2 ? 0 : 2) : (s1 <= s2 ? 1 : 2);
+                return std::min(s0, std::min(s1, s2));
+            };
+            int e = 0;
+            std::size_t steps = 0;
+            while (low(t, e) < S(0) && steps++ < cones_.size()) t = cones_[t].next[std::size_t(e)];
+            if (low(t, e) < S(0))
+                for (std::uint32_t i = 0; i < cones_.size(); ++i)
+                    if (low(i, e) > low(t, e)) t = i;
+            cone_table_[std::size_t(cell)] = t;
+        }
+    }
+
+    /// The direction table's cell of d (see build_start_table); −1 when d is zero, subnormal or not finite.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE static int direction_cell(const Vec3<S>& d) noexcept {
         const S x = d[0], y = d[1], z = d[2];
         const S ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
         int face;
@@ -329,12 +470,27 @@ private:
         constexpr S half = S(table_res) / S(2);
         const S k = half / m;
         // |u|, |v| ≤ m, so fi, fj lie in [0, table_res] up to rounding; anything else (NaN or infinite
-        // components, a zero or subnormal direction) falls back to the seeds.
+        // components, a zero or subnormal direction) is not tabulated.
         const S fi = u * k + half, fj = v * k + half;
-        if (!(fi > S(-1) && fi < S(table_res + 1) && fj > S(-1) && fj < S(table_res + 1))) return std::uint32_t(-1);
+        if (!(fi > S(-1) && fi < S(table_res + 1) && fj > S(-1) && fj < S(table_res + 1))) return -1;
         const int i = std::clamp(int(fi), 0, table_res - 1);
         const int j = std::clamp(int(fj), 0, table_res - 1);
-        return start_table_[std::size_t((face * table_res + i) * table_res + j)];
+        return (face * table_res + i) * table_res + j;
+    }
+    /// The cell's centre direction (the one tabulated for it).
+    [[nodiscard]] static Vec3<S> cell_direction(int cell) noexcept {
+        const int face = cell / (table_res * table_res), i = cell / table_res % table_res, j = cell % table_res;
+        const int axis = face / 2;
+        Vec3<S> d;
+        d[axis] = face % 2 ? S(-1) : S(1);
+        d[(axis + 1) % 3] = S(2 * i + 1) / S(table_res) - S(1);
+        d[(axis + 2) % 3] = S(2 * j + 1) / S(table_res) - S(1);
+        return d;
+    }
+    /// The table's start vertex for direction d; uint32(-1) when d is zero or not finite.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE std::uint32_t table_start(const Vec3<S>& d) const noexcept {
+        const int cell = direction_cell(d);
+        return cell < 0 ? std::uint32_t(-1) : start_table_[std::size_t(cell)];
     }
     /// Climbs to the best neighbour of the current vertex until none is better; each step strictly
     /// increases d·x, so it stops after at most |V| steps.
@@ -363,6 +519,18 @@ private:
     std::vector<std::uint32_t> offsets_, neighbours_;
     std::array<std::uint32_t, 6> seeds_{};
     std::vector<std::uint32_t> start_table_;  ///< see build_start_table (empty for brute-force hulls)
+    /// The tetrahedron joining the centre to a hull triangle (see build_cones).
+    struct CentralCone {
+        Vec3<S> normal = Vec3<S>::Zero();  ///< the triangle's outward unit normal; its plane is normal·x = offset
+        S offset = S(0);
+        std::array<Vec3<S>, 3> side{};    ///< inward unit normals of the planes through the centre and edge e
+        std::array<S, 3> side_offset{};    ///< (edge e joins the triangle's corners e and e + 1)
+        std::array<std::uint32_t, 3> next{};  ///< the triangle across edge e
+    };
+    std::vector<CentralCone> cones_;           ///< empty: no containment test (see build_cones)
+    std::vector<std::uint32_t> cone_table_;    ///< a cell's centre direction lies in this tetrahedron's cone
+    std::vector<std::uint32_t> vertex_begin_cone_{0}, vertex_cone_;  ///< the tetrahedra at each vertex (CSR)
+    S containment_error_ = S(0);
     Vec3<S> center_ = Vec3<S>::Zero();
     // Boundary topology in CSR form (see the accessors).
     std::vector<std::uint32_t> face_begin_, face_loop_, face_edge_;

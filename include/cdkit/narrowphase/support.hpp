@@ -30,6 +30,12 @@
 #else
 #define CDKIT_COLD_PATH
 #endif
+/// Keeps a path that is not rare but weighs on the code around it (a hull's point location) out of line.
+#if defined(__GNUC__) || defined(__clang__)
+#define CDKIT_NOINLINE __attribute__((noinline))
+#else
+#define CDKIT_NOINLINE
+#endif
 
 namespace cdkit {
 
@@ -81,6 +87,23 @@ concept HasContainmentTest = SupportMapped<T> &&
                              requires(const T& s, const Vec3<typename T::Scalar>& p, typename T::Scalar slack) {
                                  { s.contains_strictly(p, slack) } -> std::convertible_to<bool>;
                              };
+/// The answer of a shape's point location (HasPointLocation): `inside` as contains_strictly's; otherwise `axis`,
+/// when non-zero, an outward face normal whose plane p lies beyond (p is outside; a candidate separating axis,
+/// see HasCandidateAxes).
+template <class S> struct PointLocation {
+    bool inside = false;
+    Vec3<S> axis = Vec3<S>::Zero();
+};
+
+/// A shape whose containment test walks (a hull): `locate(p, slack, hint)` with a support vertex near p as the
+/// hint (GJK's), answering a PointLocation. The cold boolean GJK runs it once, with its slack (not a cheap pass
+/// without the slack first), and tries the axis it returns as a candidate separating axis.
+template <class T>
+concept HasPointLocation =
+    HasContainmentTest<T> &&
+    requires(const T& s, const Vec3<typename T::Scalar>& p, typename T::Scalar slack, std::uint32_t hint) {
+        { s.locate(p, slack, hint) } -> std::same_as<PointLocation<typename T::Scalar>>;
+    };
 
 /// A shape that can name likely separating directions towards a point p (local frame): `candidate_axis(p)`, an
 /// outward normal (non-zero) of the face whose plane p lies farthest outside of, and `candidate_edge(p)`, the unit
