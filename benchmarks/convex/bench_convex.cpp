@@ -363,8 +363,8 @@ int main(int argc, char** argv) {
                 auto d = gjk_distance(a, pa, b, pb);
                 auto bo = gjk_intersect(a, pa, b, pb);
                 by_balls += bo.iterations == 0;  // decided by the bounding-ball pre-test
-                // decided by the containment certificate (GjkSettings::containment_test): one pair, no simplex
-                by_containment += bo.status == GjkStatus::intersecting && bo.iterations == 1 && bo.simplex.size == 0;
+                // decided by the containment certificate (GjkSettings::containment_test): a support point inside, no simplex
+                by_containment += bo.status == GjkStatus::intersecting && bo.iterations >= 1 && bo.simplex.size == 0;
                 bool ref_hit = ref.colliding();
                 hits += ref_hit;
                 if (!ref_hit && ref.distance > 1e-9L * 0.1L) {

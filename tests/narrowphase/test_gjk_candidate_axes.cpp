@@ -57,12 +57,12 @@ template <class Shape> bool is_shape_face_normal(const Shape& s, const Mat3<doub
         return false;
     }
 }
-/// A candidate-axis exit: "separated" after the first pair and at most four candidate pairs, along a face normal
+/// A candidate-axis exit: "separated" after the first pair and at most three candidate pairs, along a face normal
 /// of either shape (a box's, or a hull's found by its point location) or (two boxes) an edge cross product.
 template <class A, class B>
 bool candidate_exit(const GjkResult<double>& r, const A& a, const Transform<double>& pa, const B& b,
                     const Transform<double>& pb) {
-    if (r.status != GjkStatus::separated || r.iterations < 2 || r.iterations > 5) return false;
+    if (r.status != GjkStatus::separated || r.iterations < 2 || r.iterations > 4) return false;
     const bool boxes = std::is_same_v<A, Box<double>> && std::is_same_v<B, Box<double>>;
     return is_shape_face_normal(a, pa.R, r.normal) || is_shape_face_normal(b, pb.R, r.normal) ||
            (boxes && is_edge_cross(r.normal, pa.R, pb.R));

@@ -104,8 +104,8 @@ TEST_CASE("strict containment tests are conservative and not useless", "[gjk][co
 
 TEST_CASE("hull point location is conservative against every face plane, and its axes are planes p lies beyond",
           "[gjk][containment]") {
-    // Against the exact answer up to long double: the least distance from p to the hull triangles' planes (each
-    // plane computed in long double from its corners). `inside` needs that distance above the slack; an `axis` must
+    // Against the exact answer up to long double: the least distance from p to the hull's supporting planes (each
+    // computed in long double from three vertices). `inside` needs that distance above the slack; an `axis` must
     // be an outward face normal whose plane p lies beyond (beyond every vertex along it); every start (no hint, a
     // random vertex, the support vertex towards p, an out-of-range index) must be conservative, and deep points
     // (more than slack + 1e-9 of the size inside) must be found from all of them.
@@ -113,30 +113,69 @@ TEST_CASE("hull point location is conservative against every face plane, and its
     std::mt19937_64 rng(704);
     std::uniform_real_distribution<double> u(0.0, 1.0), radial(0.5, 1.0);
     int wrong_inside = 0, wrong_axis = 0, deep = 0, deep_found = 0, outside = 0, outside_axis = 0;
-    for (int h = 0; h < test::scaled(12, 3); ++h) {
+    const int round_hulls = test::scaled(12, 3), sliver_hulls = test::scaled(24, 6);
+    for (int h = 0; h < round_hulls + sliver_hulls; ++h) {
         std::vector<Vec3<double>> cloud;
-        const int n = h % 3 == 0 ? 8 : (h % 3 == 1 ? 100 : 2000);
-        const Vec3<double> offset = h % 4 == 3 ? Vec3<double>(1e3, -2e3, 5e2) : Vec3<double>::Zero();
-        for (int i = 0; i < n; ++i) cloud.push_back(offset + random_unit(rng) * radial(rng));
+        if (h < round_hulls) {
+            const int n = h % 3 == 0 ? 8 : (h % 3 == 1 ? 100 : 2000);
+            const Vec3<double> offset = h % 4 == 3 ? Vec3<double>(1e3, -2e3, 5e2) : Vec3<double>::Zero();
+            for (int i = 0; i < n; ++i) cloud.push_back(offset + random_unit(rng) * radial(rng));
+        } else {
+            // Sliver triangles: two pentagons (a prism's caps, turned and moved at random), each with three
+            // corners 1e-8 … 1e-6 apart on a line up to 1e-13 … 1e-16 off it. The sign of a side plane's
+            // determinant det(v_e − c, v_e+1 − c, v_e+2 − c) is lost to rounding there (a first version trusted
+            // it and accepted a point 0.3 outside such a hull).
+            const double sz = std::pow(10.0, -6 - 2 * u(rng)), eta = std::pow(10.0, -13 - 3 * u(rng));
+            const double xy[5][2] = {{0, -1.37 * sz}, {eta, 0.3 * sz}, {0, sz}, {-1.2345678, 0.987654321},
+                                     {-0.91234567, -1.07654321}};
+            const Mat3<double> R = test::random_rotation(rng);
+            const Vec3<double> offset = 0.1 * random_unit(rng);
+            for (const double z : {1.0, -0.8765431})
+                for (const auto& q : xy) cloud.push_back(R * Vec3<double>(q[0], q[1], z) + offset);
+        }
         const ConvexPolyhedron<double> hull(cloud);
         const auto& V = hull.vertices();
-        std::vector<std::pair<Vec3<L>, L>> planes;  // outward unit normal, offset
-        for (const auto& t : hull.triangles()) {
-            const Vec3<L> a = V[t[0]].cast<L>(), b = V[t[1]].cast<L>(), c = V[t[2]].cast<L>();
-            const Vec3<L> nn = (b - a).cross(c - a).normalized();
-            planes.emplace_back(nn, nn.dot(a));
+        // The reference planes: the hull triangles' (outward unit normal, offset). On the sliver hulls Qhull's merged
+        // faces are not flat and their fans not convex (a vertex 1e-3 beyond a fan triangle's plane), so there the
+        // hull's supporting planes are found by brute force over vertex triples instead (every vertex on one side,
+        // to 1e-13): a point inside them is in conv(V). (The walk's tetrahedra lie in conv(V) either way.)
+        std::vector<std::pair<Vec3<L>, L>> planes;
+        const bool slivers = h >= round_hulls;
+        if (!slivers) {
+            for (const auto& t : hull.triangles()) {
+                const Vec3<L> a = V[t[0]].cast<L>(), b = V[t[1]].cast<L>(), c = V[t[2]].cast<L>();
+                const Vec3<L> nn = (b - a).cross(c - a).normalized();
+                planes.emplace_back(nn, nn.dot(a));
+            }
+        } else {
+            for (std::size_t i = 0; i < V.size(); ++i)
+                for (std::size_t j = i + 1; j < V.size(); ++j)
+                    for (std::size_t k = j + 1; k < V.size(); ++k) {
+                        const Vec3<L> a = V[i].cast<L>(), b = V[j].cast<L>(), c = V[k].cast<L>();
+                        Vec3<L> nn = (b - a).cross(c - a);
+                        if (!(nn.norm() > L(0))) continue;
+                        nn.normalize();
+                        L lo = 0, hi = 0;
+                        for (const auto& v : V) {
+                            lo = std::min(lo, nn.dot(v.cast<L>() - a));
+                            hi = std::max(hi, nn.dot(v.cast<L>() - a));
+                        }
+                        if (hi <= L(1e-13)) planes.emplace_back(nn, nn.dot(a));
+                        else if (lo >= L(-1e-13)) planes.emplace_back(-nn, -nn.dot(a));
+                    }
         }
         for (int i = 0; i < test::scaled(4000, 400); ++i) {
             // Around a support point: pulled in, pushed out, or jittered (near faces, edges and vertices).
             const Vec3<double> d = random_unit(rng);
             const Vec3<double> c = hull.center(), q = hull.support(d);
-            const int kind = i % 4;
+            const int kind = h < round_hulls ? i % 4 : i % 5;
             // (Off the rays from the centre through the vertices by 1e-6: points on them lie on the planes
             // between the walk's tetrahedra, which it cannot certify; it answers false there, see check_conservative.)
             Vec3<double> p = kind == 0 ? Vec3<double>(c + u(rng) * (q - c))
                              : kind == 1 ? Vec3<double>(c + (1.0 + 0.01 * (u(rng) - 0.5)) * (q - c))
                                          : Vec3<double>(q + std::pow(10.0, -12 * u(rng)) * random_unit(rng));
             if (kind == 3) p = c + 1.3 * u(rng) * (p - c);
+            if (kind == 4) p = c + 1.6 * Vec3<double>(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);  // anywhere
             if (kind != 2) p += 1e-6 * random_unit(rng);
             const double slack = i % 3 == 0 ? 0.0 : (i % 3 == 1 ? 1e-12 : 1e-4);
             const Vec3<L> pl = p.cast<L>();
@@ -146,7 +185,7 @@ TEST_CASE("hull point location is conservative against every face plane, and its
                                             std::uint32_t(V.size() + 7)};
             // Deep: inside by more than 1e-9 beyond the slack (a slack of 1e-4 is also needed from the tetrahedron's
             // sides, which a point inside by 1e-4 need not clear: only the conservative checks for it).
-            const bool is_deep = slack < 1e-4 && least > L(slack) + L(1e-9 * hull.radius());
+            const bool is_deep = !slivers && slack < 1e-4 && least > L(slack) + L(1e-9 * hull.radius());
             deep += is_deep;
             outside += least < 0;
             bool found = true;
@@ -154,7 +193,7 @@ TEST_CASE("hull point location is conservative against every face plane, and its
                 const PointLocation<double> r = hull.locate(p, slack, hint);
                 wrong_inside += r.inside && !(least > L(slack));
                 found = found && r.inside;
-                if (r.axis != Vec3<double>::Zero()) {
+                if (r.axis != Vec3<double>::Zero() && !slivers) {  // (a sliver hull's fan planes need not support it)
                     outside_axis += hint == hints[2];
                     // Beyond the plane through the farthest vertex along the axis, in long double.
                     const Vec3<L> nn = r.axis.cast<L>();
@@ -174,6 +213,24 @@ TEST_CASE("hull point location is conservative against every face plane, and its
     CHECK(wrong_axis == 0);
     CHECK(deep_found == deep);
     CHECK(outside_axis > outside / 4);
+
+    // The first sliver hull found (by review, through Qhull): the point lies 0.309 outside (exact arithmetic).
+    const std::vector<Vec3<double>> found = {
+        {1.0757394815964596, -0.10142061181686671, 0.02178216509390677},
+        {1.0757394947362466, -0.10142046024827708, 0.021782233965589166},
+        {1.0757395002439409, -0.10142039671654049, 0.021782262833975836},
+        {1.0923574157052462, 0.28926462983473755, 1.553678985191689},
+        {0.94588857891786282, -1.4522041207432972, 0.40887681072722637},
+        {-0.79267985716821365, 0.071370550996931931, -0.0020168840729095673},
+        {-0.79267984402842662, 0.071370702565521554, -0.0020168152012271703},
+        {-0.79267983852073232, 0.071370766097258148, -0.0020167863328404978},
+        {-0.77606192305942723, 0.46205579264853619, 1.5298799360248725},
+        {-0.92253075984681043, -1.2794129579294986, 0.38507776156041001}};
+    const ConvexPolyhedron<double> sliver(found);
+    const Vec3<double> p(-0.7232367512183846, 0.42161740243479606, 0.13972013473487907);
+    CHECK_FALSE(sliver.contains_strictly(p, 0.0));
+    for (std::uint32_t k = 0; k < sliver.vertices().size(); ++k) CHECK_FALSE(sliver.locate(p, 0.0, k).inside);
+    CHECK(sliver.contains_strictly(Vec3<double>(sliver.center() + Vec3<double>(1e-3, 2e-3, -1e-3)), 0.0));
 }
 
 TEST_CASE("containment certificate changes no boolean answer near contact", "[gjk][containment]") {
@@ -206,7 +263,8 @@ TEST_CASE("containment certificate changes no boolean answer near contact", "[gj
             ++cases;
             const auto on = gjk_intersect(a, pa, b, pb);
             const auto plain = gjk_intersect(a, pa, b, pb, nullptr, off);
-            const bool certified = on.status == GjkStatus::intersecting && on.iterations == 1 && on.simplex.size == 0;
+            // A containment exit: intersecting without a simplex (the balls' exit has no iterations).
+            const bool certified = on.status == GjkStatus::intersecting && on.iterations >= 1 && on.simplex.size == 0;
             if (g >= 0 && certified) ++fired_not_overlapping;
             if (std::abs(g) >= 1e-9) {
                 // Reference: long-double GJK on the double poses. Moving B by more than the distance along the
@@ -299,7 +357,7 @@ TEST_CASE("containment certificate agrees with the plain loop on random overlapp
         ++n;
         differ += on.status != plain.status;
         colliding += plain.colliding();
-        fired += on.iterations == 1 && on.status == GjkStatus::intersecting && on.simplex.size == 0;
+        fired += on.iterations >= 1 && on.status == GjkStatus::intersecting && on.simplex.size == 0;
     };
     for (int k = 0; k < test::scaled(3000, 300); ++k) {
         const double r1 = 0.1 * u(rng), r2 = 0.1 * u(rng), h1 = 0.1 * u(rng), h2 = 0.1 * u(rng);

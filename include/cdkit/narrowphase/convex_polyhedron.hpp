@@ -406,6 +406,11 @@ private:
             if (!(len > W(0))) return;  // a sliver triangle: no containment test for this hull
             worst = std::max(worst, a.norm() * b.norm() / len);
             n /= len;
+            // The centre on the inner side of the (outward, counter-clockwise) triangle: then each side plane's
+            // normal (v_e − c) × (v_e+1 − c) points into the tetrahedron, since its product with v_e+2 − c is
+            // det(v_e − c, v_e+1 − c, v_e+2 − c) = |a × b|·n·(v_0 − c) > 0. (Not tested by that determinant itself:
+            // for a sliver triangle its rounding, ~ε·|v − c|³, exceeds it and once flipped a side plane.)
+            if (!(n.dot(v[0] - c) > W(0))) return;
             k.normal = n.template cast<S>();
             k.offset = S(n.dot(v[0]));
             for (int e = 0; e < 3; ++e) {
@@ -414,7 +419,6 @@ private:
                 const W l = m.norm();
                 if (!(l > W(0))) return;
                 worst = std::max(worst, p.norm() * q.norm() / l);
-                if (m.dot(v[(e + 2) % 3] - c) < W(0)) m = -m;  // towards the tetrahedron's inside
                 m /= l;
                 k.side[std::size_t(e)] = m.template cast<S>();
                 k.side_offset[std::size_t(e)] = S(m.dot(c));
