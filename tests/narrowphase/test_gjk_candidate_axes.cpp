@@ -68,6 +68,16 @@ bool candidate_exit(const GjkResult<double>& r, const A& a, const Transform<doub
            (boxes && is_edge_cross(r.normal, pa.R, pb.R));
 }
 
+/// n points at radii 0.1·[inner, 1] in random directions, and their long-double copies (for hulls).
+std::pair<std::vector<Vec3<double>>, std::vector<Vec3<L>>> shell_cloud(std::mt19937_64& rng, int n, double inner) {
+    std::vector<Vec3<double>> cloud;
+    for (int i = 0; i < n; ++i)
+        cloud.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(inner, 1)(rng)));
+    std::vector<Vec3<L>> cloud_l;
+    for (const auto& q : cloud) cloud_l.push_back(q.cast<L>());
+    return {cloud, cloud_l};
+}
+
 struct Tally {
     int cases = 0, candidate_exits = 0, claimed_at_contact = 0, unbacked = 0, bad_distance = 0, bad_points = 0;
     int differ = 0, close_box = 0, close_box_decided = 0, close_hulls = 0, close_hulls_decided = 0;
@@ -155,17 +165,11 @@ TEST_CASE("box candidate axis is the face that a point lies farthest outside of"
 TEST_CASE("candidate axes never claim a plane at contact, and their planes separate", "[gjk][candidate]") {
     std::mt19937_64 rng(1906);
     std::uniform_real_distribution<double> u(0.05, 0.1);
-    std::vector<Vec3<double>> cloud;
-    for (int i = 0; i < 40; ++i) cloud.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.3, 1)(rng)));
-    std::vector<Vec3<L>> cloud_l;
-    for (const auto& q : cloud) cloud_l.push_back(q.cast<L>());
+    const auto [cloud, cloud_l] = shell_cloud(rng, 40, 0.3);
     const ConvexPolyhedron<double> hull(cloud);
     const ConvexPolyhedron<L> hull_l(cloud_l);
     // A second hull, of 300 points (about 60 vertices: hill climbing and the walk's vertex fans), for hull pairs.
-    std::vector<Vec3<double>> cloud2;
-    for (int i = 0; i < 300; ++i) cloud2.push_back(random_unit(rng) * (0.1 * std::uniform_real_distribution<double>(0.5, 1)(rng)));
-    std::vector<Vec3<L>> cloud2_l;
-    for (const auto& q : cloud2) cloud2_l.push_back(q.cast<L>());
+    const auto [cloud2, cloud2_l] = shell_cloud(rng, 300, 0.5);
     const ConvexPolyhedron<double> hull2(cloud2);
     const ConvexPolyhedron<L> hull2_l(cloud2_l);
     Tally t;
