@@ -334,7 +334,7 @@ int main(int argc, char** argv) {
         }
     }
 
-    // Checked counter: seeded random hull/ellipsoid/box/cylinder pairs at random poses; the double boolean
+    // Checked counter: seeded random hull/ellipsoid/cylinder/cone pairs at random poses; the double boolean
     // and distance against cdkit's long-double run (distance relative error ≤ 1e-9 where the distance is
     // ≥ 1e-6 of the scale; booleans compared where |distance| > 1e-9·scale).
     {
@@ -349,6 +349,8 @@ int main(int argc, char** argv) {
         Ellipsoid<LD> el(Vec3<LD>(0.1L, 0.05L, 0.08L));
         Cylinder<double> cy(0.05, 0.1);
         Cylinder<LD> cyl_l(0.05L, 0.1L);
+        Cone<double> co(0.06, 0.09);  // cone–cylinder: the cold boolean's containment test in every round
+        Cone<LD> co_l(0.06L, 0.09L);
         long fail_bool = 0, fail_dist = 0, fail_dist_plain = 0, hits = 0, dist_checked = 0, by_balls = 0;
         long by_containment = 0;
         GjkSettings<LD> tight;
@@ -377,18 +379,19 @@ int main(int argc, char** argv) {
                             if (++fail_dist <= 5)
                                 std::printf("  distance failure: case %ld pair %ld: %.17g vs reference %.17Lg "
                                             "(certified-clamped %.17Lg), %d it, status %d\n",
-                                            i, i % 4, d.distance, ref.distance, ref_c, d.iterations, int(d.status));
+                                            i, i % 5, d.distance, ref.distance, ref_c, d.iterations, int(d.status));
                         }
                     }
                 } else if (ref_hit && !(bo.colliding() && d.colliding())) {
                     ++fail_bool;
                 }
             };
-            switch (i % 4) {
+            switch (i % 5) {
                 case 0: check(h1, h1l, h2, h2l); break;
                 case 1: check(h1, h1l, e, el); break;
                 case 2: check(e, el, cy, cyl_l); break;
-                default: check(cy, cyl_l, h2, h2l); break;
+                case 3: check(cy, cyl_l, h2, h2l); break;
+                default: check(co, co_l, cy, cyl_l); break;
             }
         }
         double secs = std::chrono::duration<double>(Clock::now() - t0).count();
