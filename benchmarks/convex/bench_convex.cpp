@@ -365,7 +365,8 @@ int main(int argc, char** argv) {
                 auto d = gjk_distance(a, pa, b, pb);
                 auto bo = gjk_intersect(a, pa, b, pb);
                 by_balls += bo.iterations == 0;  // decided by the bounding-ball pre-test
-                // decided by the containment certificate (GjkSettings::containment_test): a support point inside, no simplex
+                // decided by the containment certificate (GjkSettings::containment_test): a support point
+                // inside the other shape, no simplex
                 by_containment += bo.status == GjkStatus::intersecting && bo.iterations >= 1 && bo.simplex.size == 0;
                 bool ref_hit = ref.colliding();
                 hits += ref_hit;

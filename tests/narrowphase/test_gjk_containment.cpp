@@ -181,8 +181,8 @@ TEST_CASE("hull point location is conservative against every face plane, and its
             const Vec3<L> pl = p.cast<L>();
             L least = std::numeric_limits<L>::infinity();
             for (const auto& [nn, off] : planes) least = std::min(least, off - nn.dot(pl));
-            const std::uint32_t hints[4] = {std::uint32_t(-1), std::uint32_t(rng() % V.size()), hull.support_index(p - c),
-                                            std::uint32_t(V.size() + 7)};
+            const std::uint32_t hints[4] = {std::uint32_t(-1), std::uint32_t(rng() % V.size()),
+                                            hull.support_index(p - c), std::uint32_t(V.size() + 7)};
             // Deep: inside by more than 1e-9 beyond the slack (a slack of 1e-4 is also needed from the tetrahedron's
             // sides, which a point inside by 1e-4 need not clear: only the conservative checks for it).
             const bool is_deep = !slivers && slack < 1e-4 && least > L(slack) + L(1e-9 * hull.radius());
@@ -281,8 +281,8 @@ TEST_CASE("containment certificate changes no boolean answer near contact", "[gj
                     // (A "touching" of the plain loop may become "intersecting" when a point is certified strictly
                     // inside the other shape: a proof of overlap beyond the loop's tolerance.)
                     const bool proven_deeper = plain.status == GjkStatus::touching && certified;
-                    if (plain.colliding() == truth && (on.colliding() != truth || (on.status != plain.status && !proven_deeper)))
-                        ++differ;
+                    const bool status_differs = on.status != plain.status && !proven_deeper;
+                    if (plain.colliding() == truth && (on.colliding() != truth || status_differs)) ++differ;
                     if (plain.colliding() != truth && on.colliding() == truth) ++corrected;
                     if (plain.colliding() != truth && on.colliding() != truth) ++both_wrong;
                     plain_wrong += plain.colliding() != truth;

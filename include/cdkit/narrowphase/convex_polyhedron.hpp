@@ -376,7 +376,8 @@ private:
     void build_start_table() {
         if (vertices_.size() <= brute_force_limit) return;
         start_table_.resize(std::size_t(cells));
-        for (int cell = 0; cell < cells; ++cell) start_table_[std::size_t(cell)] = brute_force_index(cell_direction(cell));
+        for (int cell = 0; cell < cells; ++cell)
+            start_table_[std::size_t(cell)] = brute_force_index(cell_direction(cell));
     }
     static constexpr int cells = 6 * table_res * table_res;
 
@@ -391,7 +392,7 @@ private:
         if (!(inner_radius_ > S(0))) return;
         std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> owner;  // directed edge → triangle
         for (std::uint32_t t = 0; t < triangles_.size(); ++t)
-            for (int e = 0; e < 3; ++e) owner[{triangles_[t][std::size_t(e)], triangles_[t][std::size_t((e + 1) % 3)]}] = t;
+            for (std::size_t e = 0; e < 3; ++e) owner[{triangles_[t][e], triangles_[t][(e + 1) % 3]}] = t;
         const Vec3<W> c = center_.template cast<W>();
         W worst = 1;  // largest |a||b|/|a × b| over the planes
         std::vector<CentralCone> cones(triangles_.size());
@@ -427,8 +428,8 @@ private:
                 k.next[std::size_t(e)] = across->second;
             }
         }
-        const W bound = W(64) * (W(std::numeric_limits<S>::epsilon()) + W(16) * std::numeric_limits<W>::epsilon() * worst) *
-                        W(radius_);
+        const W eps_s = W(std::numeric_limits<S>::epsilon()), eps_w = std::numeric_limits<W>::epsilon();
+        const W bound = W(64) * (eps_s + W(16) * eps_w * worst) * W(radius_);
         if (!(bound < W(radius_))) return;
         containment_error_ = detail::round_up(S(bound));
         cones_ = std::move(cones);

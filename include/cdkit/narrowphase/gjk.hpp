@@ -34,7 +34,8 @@
 /// `HasPointLocation`); then, for shapes that name candidate axes (`HasCandidateAxes`: a box's face normal
 /// towards the other shape's first support point, and the cross product of two boxes' nearest edges; a hull's
 /// face whose plane its location found the point beyond), it gives those directions the plane test before the
-/// loop (on close box pairs one of them is usually the separating axis). Its tetrahedron step uses that the newest point is vertex 3.
+/// loop (on close box pairs one of them is usually the separating axis). Its tetrahedron step uses that the newest
+/// point is vertex 3.
 ///
 /// Accuracy on curved shapes: near contact the support points cluster and the triangle step meets slivers
 /// whose rounded normal can put v below the simplex (|v| then under-estimates the distance and the gap test
@@ -110,7 +111,8 @@ template <class S = double> struct GjkSettings {
     /// Cold boolean queries where a shape names candidate axes (`HasCandidateAxes`: box; a convex polyhedron's
     /// face from its point location, with `containment_test`): when the first support pair decides nothing, try
     /// the face normal of each such shape towards the other's first support point, and where both name axes the
-    /// cross product of their nearest edges, with the loop's plane test (one support pair each) before the loop. A plane found there is an ordinary early exit (`normal`, `distance`, `point_a` /
+    /// cross product of their nearest edges, with the loop's plane test (one support pair each) before the loop. A
+    /// plane found there is an ordinary early exit (`normal`, `distance`, `point_a` /
     /// `point_b` as for any plane; `iterations` 2 to 4). The work and the plane reported depend on it, the status
     /// does not.
     bool candidate_axes = true;

@@ -88,8 +88,8 @@ concept HasContainmentTest = SupportMapped<T> &&
                                  { s.contains_strictly(p, slack) } -> std::convertible_to<bool>;
                              };
 /// The answer of a shape's point location (HasPointLocation): `inside` as contains_strictly's; otherwise `axis`,
-/// when non-zero, an outward face normal whose plane p lies beyond (p is outside; a candidate separating axis,
-/// see HasCandidateAxes).
+/// when non-zero, an outward face normal whose plane p lies beyond (so p is outside where the faces are flat; a
+/// candidate separating axis, see HasCandidateAxes: a wrong one only costs a support pair).
 template <class S> struct PointLocation {
     bool inside = false;
     Vec3<S> axis = Vec3<S>::Zero();
