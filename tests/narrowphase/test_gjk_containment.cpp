@@ -87,9 +87,10 @@ TEST_CASE("strict containment tests are conservative and not useless", "[gjk][co
     for (double slack : {0.0, 1e-12, 1e-3}) {
         INFO("hulls, slack " << slack);
         const int points = test::scaled(400, 40);
-        CHECK(check_conservative(ConvexPolyhedron<double>(round), rng, slack, 0.05) > points / 4);
-        CHECK(check_conservative(ConvexPolyhedron<double>(thin), rng, slack, 0.05) >= 0);
-        CHECK(check_conservative(ConvexPolyhedron<double>(far), rng, slack, 0.05) > points / 4);
+        // (A hull walk also needs the slack from its tetrahedra's sides: fewer points pass at slack 1e-3.)
+        CHECK(check_conservative(ConvexPolyhedron<double>(round), rng, slack, 0.05) > points / 8);
+        CHECK(check_conservative(ConvexPolyhedron<double>(thin), rng, slack, 0.05) >= 0);  // conservative only
+        CHECK(check_conservative(ConvexPolyhedron<double>(far), rng, slack, 0.05) > points / 8);
     }
     // A slack larger than the shape accepts nothing (a negative shrunk radius must not square to a positive one).
     const Cylinder<double> cyl(0.1, 0.3);
