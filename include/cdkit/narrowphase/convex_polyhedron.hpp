@@ -63,6 +63,7 @@ template <class S> struct PolyhedronEdge {
 template <class S = double> class ConvexPolyhedron {
 public:
     using Scalar = S;
+    static constexpr bool polytope_core = true;  ///< HasPolytopeCore: the support is an exact hull vertex
     /// Hulls with at most this many vertices are searched by brute force; larger ones by hill climbing.
     static constexpr std::size_t brute_force_limit = 24;
     /// Larger hulls start hill climbing from a direction table: each face of the cube around the unit sphere

@@ -54,6 +54,7 @@ template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> disc_support(const 
 template <class S = double> struct Sphere {
     using Scalar = S;
     static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
+    static constexpr bool polytope_core = true;       ///< HasPolytopeCore: exact core support
     S radius;
     explicit Sphere(S r) : radius(r) { detail::check_size(r, "sphere", "radius"); }
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
@@ -71,6 +72,7 @@ template <class S = double> struct Sphere {
 template <class S = double> struct Box {
     using Scalar = S;
     static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
+    static constexpr bool polytope_core = true;       ///< HasPolytopeCore: exact core support
     Vec3<S> half;
     explicit Box(const Vec3<S>& half_extents) : half(half_extents) {
         detail::check_sizes("box", half[0], "half extent", half[1], "half extent", half[2], "half extent");
@@ -114,6 +116,7 @@ template <class S = double> struct Box {
 template <class S = double> struct Capsule {
     using Scalar = S;
     static constexpr bool centered_at_origin = true;  ///< center() is the origin (saves GJK a transform)
+    static constexpr bool polytope_core = true;       ///< HasPolytopeCore: exact core support
     S radius, half_length;
     Capsule(S r, S half_len) : radius(r), half_length(half_len) {
         detail::check_sizes("capsule", r, "radius", half_len, "half length");
@@ -142,6 +145,8 @@ template <class S = double> struct Cylinder {
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         return detail::disc_support(d, radius, detail::signed_extent(half_height, d.z()));
     }
+    /// The same cylinder in the wider type (HasWidened).
+    [[nodiscard]] Cylinder<wider_t<S>> widened() const { return {wider_t<S>(radius), wider_t<S>(half_height)}; }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
     /// Balls about the centre (HasBoundingBalls): through the rims, and touching the side or the caps.
     [[nodiscard]] S bounding_radius() const noexcept {
@@ -172,6 +177,8 @@ template <class S = double> struct Cone {
         if (!(rho > S(0))) return {S(0), S(0), -half_height};
         return {radius * d.x() / rho, radius * d.y() / rho, -half_height};
     }
+    /// The same cone in the wider type (HasWidened).
+    [[nodiscard]] Cone<wider_t<S>> widened() const { return {wider_t<S>(radius), wider_t<S>(half_height)}; }
     /// The centroid, a quarter of the height above the base.
     [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), center_z()}; }
     /// Its height (it lies on the axis: GJK places it with one column of the rotation).
@@ -218,6 +225,10 @@ template <class S = double> struct Ellipsoid {
         return {radii.x() * x * inv, radii.y() * y * inv, radii.z() * z * inv};
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
+    /// The same ellipsoid in the wider type (HasWidened).
+    [[nodiscard]] Ellipsoid<wider_t<S>> widened() const {
+        return Ellipsoid<wider_t<S>>(radii.template cast<wider_t<S>>());
+    }
     /// Balls about the centre (HasBoundingBalls): of the largest and of the smallest semi-axis.
     [[nodiscard]] S bounding_radius() const noexcept { return std::max({radii[0], radii[1], radii[2]}); }
     [[nodiscard]] S inner_radius() const noexcept { return std::min({radii[0], radii[1], radii[2]}); }
@@ -226,6 +237,7 @@ template <class S = double> struct Ellipsoid {
 /// A triangle (flat convex set) with vertices a, b, c in the local frame.
 template <class S = double> struct ConvexTriangle {
     using Scalar = S;
+    static constexpr bool polytope_core = true;  ///< HasPolytopeCore: its support is an exact vertex
     Vec3<S> a, b, c;
     ConvexTriangle(const Vec3<S>& a_, const Vec3<S>& b_, const Vec3<S>& c_) : a(a_), b(b_), c(c_) {
         detail::check_point(a, "triangle", "vertex a");

@@ -16,6 +16,7 @@
 #include <concepts>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 /// Forces inlining of the few-flop helpers on GJK's per-iteration path (support maps, rotations): at -O2
 /// GCC kept several of them out of line, and the call overhead was a measurable share of a query.
@@ -116,6 +117,27 @@ template <class T>
 concept HasCandidateAxes = SupportMapped<T> && requires(const T& s, const Vec3<typename T::Scalar>& p) {
     { s.candidate_axis(p) } -> std::convertible_to<Vec3<typename T::Scalar>>;
     { s.candidate_edge(p) } -> std::convertible_to<Vec3<typename T::Scalar>>;
+};
+
+/// A wider floating type (float → double, double → long double), for GJK's rare refinement steps.
+template <class S> using wider_t =
+    std::conditional_t<std::is_same_v<S, float>, double, std::conditional_t<std::is_same_v<S, double>, long double, S>>;
+
+/// A shape whose core (the set GJK runs on: the shape itself, or the point or segment under its margin) is a
+/// polytope that the support map answers with exact vertices: `static constexpr bool polytope_core = true`. GJK
+/// then ends on the closest simplex itself, off only by the final rounding (a few ε of the coordinates), while on
+/// a curved core it stops at its convergence floor; the near-contact refinement (`GjkSettings::
+/// refine_near_contact`) starts 16× closer for pairs of these.
+template <class T>
+concept HasPolytopeCore = SupportMapped<T> && requires { requires T::polytope_core; };
+
+/// A shape that can be rebuilt in the wider floating type: `widened()`, the same set with Scalar
+/// `wider_t<Scalar>`. GJK's near-contact refinement (`GjkSettings::refine_near_contact`) then queries it there;
+/// shapes without it have their support points widened, which is exact for vertices but leaves a curved
+/// surface's points rounded to the narrow type.
+template <class T>
+concept HasWidened = SupportMapped<T> && requires(const T& s) {
+    { s.widened() } -> SupportMapped;
 };
 
 namespace detail {
