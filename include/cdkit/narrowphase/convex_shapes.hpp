@@ -48,6 +48,8 @@ template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> disc_support(const 
     if (!(rho > S(0))) return {S(0), S(0), z};
     return {r * d.x() / rho, r * d.y() / rho, z};
 }
+/// Selects a shape constructor that skips the size checks: for `widened()`, whose sizes are a checked shape's.
+struct unchecked_t {};
 }  // namespace detail
 
 /// A ball of radius `radius` around the origin: a point core with margin `radius`.
@@ -142,11 +144,14 @@ template <class S = double> struct Cylinder {
     Cylinder(S r, S half_h) : radius(r), half_height(half_h) {
         detail::check_sizes("cylinder", r, "radius", half_h, "half height");
     }
+    Cylinder(S r, S half_h, detail::unchecked_t) noexcept : radius(r), half_height(half_h) {}
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         return detail::disc_support(d, radius, detail::signed_extent(half_height, d.z()));
     }
     /// The same cylinder in the wider type (HasWidened).
-    [[nodiscard]] Cylinder<wider_t<S>> widened() const { return {wider_t<S>(radius), wider_t<S>(half_height)}; }
+    [[nodiscard]] Cylinder<wider_t<S>> widened() const noexcept {
+        return {wider_t<S>(radius), wider_t<S>(half_height), detail::unchecked_t{}};
+    }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
     /// Balls about the centre (HasBoundingBalls): through the rims, and touching the side or the caps.
     [[nodiscard]] S bounding_radius() const noexcept {
@@ -167,6 +172,7 @@ template <class S = double> struct Cone {
     Cone(S r, S half_h) : radius(r), half_height(half_h) {
         detail::check_sizes("cone", r, "radius", half_h, "half height");
     }
+    Cone(S r, S half_h, detail::unchecked_t) noexcept : radius(r), half_height(half_h) {}
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         // The apex wins when d lies inside the cone of normals at the apex: d_z·|side| > r·|d| with the
         // side generator length |side| = sqrt(r² + (2h)²). Squared (d_z > 0) that is 2h·d_z > r·ρ with
@@ -178,7 +184,9 @@ template <class S = double> struct Cone {
         return {radius * d.x() / rho, radius * d.y() / rho, -half_height};
     }
     /// The same cone in the wider type (HasWidened).
-    [[nodiscard]] Cone<wider_t<S>> widened() const { return {wider_t<S>(radius), wider_t<S>(half_height)}; }
+    [[nodiscard]] Cone<wider_t<S>> widened() const noexcept {
+        return {wider_t<S>(radius), wider_t<S>(half_height), detail::unchecked_t{}};
+    }
     /// The centroid, a quarter of the height above the base.
     [[nodiscard]] Vec3<S> center() const noexcept { return {S(0), S(0), center_z()}; }
     /// Its height (it lies on the axis: GJK places it with one column of the rotation).
@@ -215,6 +223,7 @@ template <class S = double> struct Ellipsoid {
     explicit Ellipsoid(const Vec3<S>& r) : radii(r) {
         detail::check_sizes("ellipsoid", r[0], "radius", r[1], "radius", r[2], "radius");
     }
+    Ellipsoid(const Vec3<S>& r, detail::unchecked_t) noexcept : radii(r) {}
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> support(const Vec3<S>& d) const noexcept {
         // argmax d·x on x = D u, |u| = 1 is D (D d)/|D d| with D = diag(radii).
         // Per component (Eigen's packet norm reloaded d, just written by GJK, through a stalled 16-byte load).
@@ -226,8 +235,8 @@ template <class S = double> struct Ellipsoid {
     }
     [[nodiscard]] Vec3<S> center() const noexcept { return Vec3<S>::Zero(); }
     /// The same ellipsoid in the wider type (HasWidened).
-    [[nodiscard]] Ellipsoid<wider_t<S>> widened() const {
-        return Ellipsoid<wider_t<S>>(radii.template cast<wider_t<S>>());
+    [[nodiscard]] Ellipsoid<wider_t<S>> widened() const noexcept {
+        return {radii.template cast<wider_t<S>>(), detail::unchecked_t{}};
     }
     /// Balls about the centre (HasBoundingBalls): of the largest and of the smallest semi-axis.
     [[nodiscard]] S bounding_radius() const noexcept { return std::max({radii[0], radii[1], radii[2]}); }

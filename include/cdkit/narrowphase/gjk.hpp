@@ -116,14 +116,14 @@ template <class S = double> struct GjkSettings {
     /// `point_b` as for any plane; `iterations` 2 to 4). The work and the plane reported depend on it, the status
     /// does not.
     bool candidate_axes = true;
-    /// Distance queries in double (`gjk_distance`; booleans never): a separated answer closer than
-    /// 32ε·m / rel_tolerance (2ε·m / rel_tolerance for two polytope cores, `HasPolytopeCore`), m = |t_rel|₁ + the
-    /// largest |a − b| seen (the magnitude of the loop's coordinates in A's frame), is computed again by GJK in long
-    /// double, in the world frame, from its final simplex (`detail::refine_near_contact`): there the double loop's
-    /// rounding exceeds its tolerance (measured: 1e-8 relative at a distance of 1e-7 between curved shapes 0.4
-    /// apart). Off: faster near contact (a refinement costs 2–8 µs), ~24ε·m/distance relative. Either way the
-    /// poses' rotations should be orthonormal to working precision: the loop's frame takes R_aᵀ for R_a's inverse
-    /// (a rotation accumulated over 2000 frames, 2e-13 off, moved a gap of 1e-4 by 1e-9 of it).
+    /// Distance queries in double (`gjk_distance`; booleans never, nor `penetration()`, which runs its own loop):
+    /// a separated answer closer than 32ε·m / rel_tolerance (2ε·m / rel_tolerance for two polytope cores,
+    /// `HasPolytopeCore`), m = |t_rel|₁ + the largest |a − b| seen, is computed again by GJK in long double from its
+    /// final simplex (`detail::refine_near_contact`), where the double loop's rounding exceeds its tolerance (docs/
+    /// convex.md, "Near contact"). A refinement costs microseconds with x87 long double (more where long double is
+    /// software quad); a small rel_tolerance makes more queries refine. Only where long double is wider than
+    /// double. Rotations should be orthonormal to working precision either way: the loop's frame takes R_aᵀ for
+    /// R_a's inverse.
     bool refine_near_contact = true;
 };
 
@@ -1507,16 +1507,17 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
 }
 
 /// A shape seen in the wider type of `refine_near_contact`: the directions are rounded to the shape's own type,
-/// its support points widened exactly. The points are the shape's own (a rounded direction picks a point of the
-/// shape that is optimal for a direction within an ulp's angle), so every bound GJK derives from them stays one.
+/// its support points widened exactly. For a primitive the points are the shape's own (a rounded direction picks a
+/// point optimal for a direction within an ulp's angle); a wrapper's (Transformed, Inflated) carry its own double
+/// rounding.
 template <SupportMapped A> struct WidenedShape {
     using Narrow = typename A::Scalar;
     using Scalar = wider_t<Narrow>;
     const A* shape;
     [[nodiscard]] Vec3<Scalar> support(const Vec3<Scalar>& d) const noexcept {
-        return shape->support(d.template cast<Narrow>()).template cast<Scalar>();
+        return Vec3<Narrow>(shape->support(d.template cast<Narrow>())).template cast<Scalar>();
     }
-    [[nodiscard]] Vec3<Scalar> center() const noexcept { return shape->center().template cast<Scalar>(); }
+    [[nodiscard]] Vec3<Scalar> center() const noexcept { return Vec3<Narrow>(shape->center()).template cast<Scalar>(); }
     [[nodiscard]] Scalar margin() const noexcept
         requires HasMargin<A>
     {
@@ -1525,7 +1526,7 @@ template <SupportMapped A> struct WidenedShape {
     [[nodiscard]] Vec3<Scalar> core_support(const Vec3<Scalar>& d) const noexcept
         requires HasMargin<A>
     {
-        return shape->core_support(d.template cast<Narrow>()).template cast<Scalar>();
+        return Vec3<Narrow>(shape->core_support(d.template cast<Narrow>())).template cast<Scalar>();
     }
 };
 
@@ -1551,17 +1552,18 @@ template <SupportMapped A, SupportMapped B>
                                                         const GjkResult<typename A::Scalar>& r,
                                                         typename A::Scalar magnitude) noexcept {
     using S = typename A::Scalar;
-    if constexpr (std::is_same_v<S, double> && std::numeric_limits<long double>::digits > 53) {
-        constexpr S floor = HasPolytopeCore<A> && HasPolytopeCore<B> ? S(2) : S(32);
-        return settings.refine_near_contact && r.status == GjkStatus::separated &&
-               floor * std::numeric_limits<S>::epsilon() * magnitude > settings.rel_tolerance * r.distance;
-    } else {
-        return false;
-    }
+    constexpr S floor = HasPolytopeCore<A> && HasPolytopeCore<B> ? S(2) : S(32);
+    return settings.refine_near_contact && r.status == GjkStatus::separated &&
+           floor * std::numeric_limits<S>::epsilon() * magnitude > settings.rel_tolerance * r.distance;
 }
 
+/// Whether queries in S have a near-contact refinement: double, where long double is wider (x87 or quad).
+template <class S>
+inline constexpr bool refines_near_contact =
+    std::is_same_v<S, double> && std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits;
+
 /// The near-contact refinement of a separated double distance query: GJK again in long double on the same
-/// shapes (`widened_shape`), in the world frame (both shapes placed by their poses: the double loop's frame of A
+/// shapes (`widened_shape`), in world axes (both shapes placed by their poses: the double loop's frame of A
 /// takes R_aᵀ for R_a's inverse, off by the rotation's rounding, ~1e-16 of the coordinates — as much as the
 /// answer's last digits at a distance of 1e-7), warm-started from the double query's final simplex (a few
 /// iterations), with the same tolerance, which the wider arithmetic can now reach. Its result replaces `r` when
@@ -1579,10 +1581,14 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     // support points widened.
     const auto wa = widened_shape(a);
     const auto wb = widened_shape(b);
-    const Transform<W> pa = pose_a.template cast<W>(), pb = pose_b.template cast<W>();
+    // World axes with the origin moved to A's: B's offset t_b − t_a is exact or nearly in long double, so the
+    // rounding stays ε_W of the relative coordinates, as far from the world's origin as the shapes may be.
+    const Vec3<W> origin = pose_a.t.template cast<W>();
+    const Transform<W> pa(pose_a.R.template cast<W>(), Vec3<W>::Zero());
+    const Transform<W> pb(pose_b.R.template cast<W>(), Vec3<W>(pose_b.t.template cast<W>() - origin));
     const Transformed<decltype(wa)> ta{wa, pa};
     const Transformed<decltype(wb)> tb{wb, pb};
-    const Transform<W> world;  // identity: B "in A's frame" is B in the world
+    const Transform<W> world;  // identity: B "in A's frame" is B in these world axes
     // The final simplex's directions (A's frame → world) start the loop; its points are queried again.
     GjkCache<W> cache;
     cache.size = std::min(r.simplex.size, 4);
@@ -1591,7 +1597,10 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     GjkSettings<W> ws;
     ws.max_iterations = settings.max_iterations;
     ws.rel_tolerance = W(settings.rel_tolerance);
-    ws.touch_factor = W(settings.touch_factor);
+    // The same touching tolerance as the double query's (256ε·size in S's ε): a pair it called separated is not
+    // answered separated below that threshold.
+    ws.touch_factor =
+        W(settings.touch_factor) * W(std::numeric_limits<S>::epsilon()) / std::numeric_limits<W>::epsilon();
     GjkResult<W> wr;
     Vec3<W> v;
     W size, lower;
@@ -1604,8 +1613,8 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     if (wr.status != GjkStatus::separated) return;
     r.distance = S(wr.distance);
     r.normal = wr.normal.template cast<S>();
-    r.point_a = wr.point_a.template cast<S>();
-    r.point_b = wr.point_b.template cast<S>();
+    r.point_a = Vec3<W>(wr.point_a + origin).template cast<S>();
+    r.point_b = Vec3<W>(wr.point_b + origin).template cast<S>();
     // The simplex back in A's frame (its documented frame; informational for a separated result).
     r.simplex.size = wr.simplex.size;
     for (int i = 0; i < wr.simplex.size; ++i) {
@@ -1643,9 +1652,11 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
                                   lower, boolean && cache ? settings.warm_exit_quality : S(0), &sep,
                                   retry_cached_direction);
     gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
-    if (!boolean && near_contact_needs_refinement<A, B>(
-                        settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2])))
-        refine_near_contact(a, pose_a, b, pose_b, settings, r);
+    if constexpr (refines_near_contact<S>) {
+        if (!boolean && near_contact_needs_refinement<A, B>(
+                            settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2])))
+            refine_near_contact(a, pose_a, b, pose_b, settings, r);
+    }
     return r;
 }
 
