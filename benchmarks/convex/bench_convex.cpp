@@ -351,6 +351,8 @@ int main(int argc, char** argv) {
         Cylinder<LD> cyl_l(0.05L, 0.1L);
         Cone<double> co(0.06, 0.09);  // cone–cylinder: the cold boolean's containment test in every round
         Cone<LD> co_l(0.06L, 0.09L);
+        Cone<double> co2(0.08, 0.05);  // cone–cone: the cones' candidate axes (base, side at an azimuth)
+        Cone<LD> co2_l(0.08L, 0.05L);
         long fail_bool = 0, fail_dist = 0, fail_dist_plain = 0, hits = 0, dist_checked = 0, by_balls = 0;
         long by_containment = 0;
         GjkSettings<LD> tight;
@@ -380,19 +382,20 @@ int main(int argc, char** argv) {
                             if (++fail_dist <= 5)
                                 std::printf("  distance failure: case %ld pair %ld: %.17g vs reference %.17Lg "
                                             "(certified-clamped %.17Lg), %d it, status %d\n",
-                                            i, i % 5, d.distance, ref.distance, ref_c, d.iterations, int(d.status));
+                                            i, i % 6, d.distance, ref.distance, ref_c, d.iterations, int(d.status));
                         }
                     }
                 } else if (ref_hit && !(bo.colliding() && d.colliding())) {
                     ++fail_bool;
                 }
             };
-            switch (i % 5) {
+            switch (i % 6) {
                 case 0: check(h1, h1l, h2, h2l); break;
                 case 1: check(h1, h1l, e, el); break;
                 case 2: check(e, el, cy, cyl_l); break;
                 case 3: check(cy, cyl_l, h2, h2l); break;
-                default: check(co, co_l, cy, cyl_l); break;
+                case 4: check(co, co_l, cy, cyl_l); break;
+                default: check(co2, co2_l, co, co_l); break;
             }
         }
         double secs = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -103,7 +103,7 @@ template <class S = double> struct Box {
         const bool z = !x & !y;
         return {S(x) * std::copysign(S(1), p[0]), S(y) * std::copysign(S(1), p[1]), S(z) * std::copysign(S(1), p[2])};
     }
-    /// The direction e_k of the edges nearest to p (HasCandidateAxes): k the axis p lies least outside of (for p
+    /// The direction e_k of the edges nearest to p (HasCandidateEdges): k the axis p lies least outside of (for p
     /// beyond two faces, the edge between them).
     [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> candidate_edge(const Vec3<S>& p) const noexcept {
         const S ex = std::abs(p[0]) - half[0], ey = std::abs(p[1]) - half[1], ez = std::abs(p[2]) - half[2];
@@ -212,6 +212,19 @@ template <class S = double> struct Cone {
         const S q = r * (h - p[2]) - slack * (S(2) * h + r);  // 2h times the largest ρ allowed at height z
         const S two_h = S(2) * h;
         return (std::abs(p[2]) < h - slack) & (q > S(0)) & (two_h * two_h * (p[0] * p[0] + p[1] * p[1]) < q * q);
+    }
+    /// The outward normal of the face p lies farthest outside of (HasCandidateAxes): the base, −e_z, or the side
+    /// at p's azimuth, (2h·u, r) with u = p's direction in the base plane (e_x on the axis). The side's signed
+    /// distance is (2hρ + r(z − h))/√(4h² + r²); √(4h² + r²) ≤ 2h + r stands in for the root in the comparison
+    /// (it only picks the face). Branch-free: which face wins varies from query to query.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> candidate_axis(const Vec3<S>& p) const noexcept {
+        const S h = half_height, r = radius;
+        const S rho = detail::planar_norm(p[0], p[1]);
+        const bool axial = !(rho > S(0));
+        const S ux = axial ? S(1) : p[0] / rho, uy = axial ? S(0) : p[1] / rho;
+        const bool base = (-p[2] - h) * (S(2) * h + r) > S(2) * h * rho + r * (p[2] - h);
+        const S side = base ? S(0) : S(2) * h;
+        return {side * ux, side * uy, base ? S(-1) : r};
     }
 };
 

@@ -106,16 +106,23 @@ concept HasPointLocation =
         { s.locate(p, slack, hint) } -> std::same_as<PointLocation<typename T::Scalar>>;
     };
 
-/// A shape that can name likely separating directions towards a point p (local frame): `candidate_axis(p)`, an
-/// outward normal (non-zero) of the face whose plane p lies farthest outside of, and `candidate_edge(p)`, the unit
-/// direction of the edge nearest p. When p is the other shape's point nearest to this one, that face's normal is
-/// the separating axis of a vertex–face contact, and the cross product of the two shapes' nearest edges the one of
-/// an edge–edge contact (the separating axis theorem: Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996). The
-/// cold boolean GJK tries them with its plane test before its loop; any direction is safe, a wrong one only costs
-/// a support pair.
+/// A shape that can name a likely separating direction towards a point p (local frame): `candidate_axis(p)`, an
+/// outward normal (non-zero) of the face whose plane p lies farthest outside of (a cone's side counts as a face at
+/// p's azimuth). When p is the other shape's point nearest to this one, that normal is the separating axis of a
+/// vertex–face contact (the separating axis theorem: Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996). The cold
+/// boolean GJK tries it with its plane test before its loop; any direction is safe, a wrong one only costs a
+/// support pair.
 template <class T>
 concept HasCandidateAxes = SupportMapped<T> && requires(const T& s, const Vec3<typename T::Scalar>& p) {
     { s.candidate_axis(p) } -> std::convertible_to<Vec3<typename T::Scalar>>;
+};
+
+/// A shape with candidate axes that also names `candidate_edge(p)`, the unit direction of its edge nearest p: for
+/// two such shapes the cross product of their nearest edges is the axis of an edge–edge contact, tried after the
+/// face normals (boxes; the cone has none — with its rim tangents the extra support pair cost its overlapping
+/// pairs more than it decided).
+template <class T>
+concept HasCandidateEdges = HasCandidateAxes<T> && requires(const T& s, const Vec3<typename T::Scalar>& p) {
     { s.candidate_edge(p) } -> std::convertible_to<Vec3<typename T::Scalar>>;
 };
 
