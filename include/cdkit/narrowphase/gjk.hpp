@@ -512,6 +512,23 @@ template <class S> [[nodiscard]] inline bool triangle_step_unreliable(const GjkS
     return eps * eps * sel.edges2 * lever2 > tol * tol * sel.normal2;
 }
 
+/// True when the triangle step on s.v[0..2] may move its closest point by `tol` (tol2 = tol²) or more through
+/// rounding. The edges carry the coordinates' absolute rounding, ε·M (M the largest |w|), which on a short edge
+/// tilts the normal by ε·M·P/|n| (P the perimeter, |n| twice the area) and moves the projection by that times a
+/// lever arm ≤ P; a factor 4 covers the step's own operations. triangle_step_unreliable measures the rounding
+/// relative to the edges' lengths, which misses it where a short edge sits far from the origin. Compared in
+/// squares (P² ≤ 3·Σ|e|²), no root.
+template <class S> [[nodiscard]] inline bool sliver_step_may_reach(const GjkSimplex<S>& s, S tol2) noexcept {
+    const Vec3<S>& a = s.v[0].w;
+    const Vec3<S>& b = s.v[1].w;
+    const Vec3<S>& c = s.v[2].w;
+    const S m2 = std::max({a.squaredNorm(), b.squaredNorm(), c.squaredNorm()});
+    const S p2 = S(3) * ((b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm());
+    const S nn = (b - a).cross(c - a).squaredNorm();
+    const S eps = std::numeric_limits<S>::epsilon();
+    return S(16) * eps * eps * m2 * p2 * p2 > tol2 * nn;
+}
+
 /// The sub-simplex step on the first `n + 1` vertices of `s`, in `wider_t<S>`. With `always` false: true
 /// (and `sel` set) when that step's closest point is strictly nearer than the one of the first `n` vertices,
 /// both in the wide type. With `always` true: `sel` is the step's selection whenever it is not "inside".
@@ -683,7 +700,8 @@ CDKIT_COLD_PATH CertifiedExit<typename A::Scalar> certify_exit(const A& a, const
 /// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0, the shapes' summed margins, enables the boolean
 /// early exit (stop as soon as a plane proves the core distance exceeds it) and sets the distance tolerance
 /// relative to the distance the caller gets (core distance − margin). Returns the status on the cores; `v` is the
-/// final closest point, `size_out` the largest |w| seen (the scale for tolerances), `lower_out` the best
+/// final closest point, `size_out` the larger of |t_rel| and the largest |w| seen (the scale for the touching
+/// tolerance), `lower_out` the best
 /// separating-plane bound the boolean test found (0 for distance queries, which do not need it).
 ///
 /// The boolean exit tests every support point, the very first one and the warm start's included: for any
@@ -709,6 +727,12 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     // size2: the largest |w|² seen (tolerances scale with its root, taken only where needed: a sqrt per
     // iteration on the path to the next support query showed in the profile).
     S size2 = S(0), lower_bound = S(0);
+    // The touching tolerance (256ε·size) scales with |t_rel| too, the magnitude whose rounding B's points carry in
+    // A's frame: |w| alone vanishes on a touching pair, and a warm start has only support points near the contact
+    // (the seeded hard-case count found warm booleans and distances answering "separated" at 1e-16 of the size
+    // where long double proves the overlap). The convergence test keeps the largest |w| (size2).
+    const S mag2 = rel.t.squaredNorm();
+    auto tol2 = [&] { return std::max(size2, mag2); };
     // A boolean query waiting for a better plane (exit_quality) keeps the best one's direction and support point:
     // it is the answer if the query ends before (best_saved; otherwise the exit's own direction is the best).
     Vec3<S> best_u = v;
@@ -720,7 +744,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     // coherence last frame's, from the cache), instead of the hull's fixed seeds.
     std::uint32_t hints[2] = {cache ? cache->hint_a : std::uint32_t(-1), cache ? cache->hint_b : std::uint32_t(-1)};
     auto done = [&](GjkStatus st) {
-        size_out = std::sqrt(size2);
+        size_out = std::sqrt(tol2());
         // A separated boolean reports the plane of its best bound (the exit's own direction may be weaker
         // when a warm start waited for exit_quality).
         if (boolean && st == GjkStatus::separated && best_saved && exit_support) {
@@ -749,7 +773,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         const bool improved = bound > lower_bound;
         if (improved) lower_bound = bound;
         // Same threshold as gjk_query applies to the early exit.
-        const S size = std::sqrt(size2);
+        const S size = std::sqrt(tol2());
         if (!(boolean &&
               lower_bound > early_exit_margin + settings.touch_factor * eps * std::max(size, early_exit_margin)))
             return false;
@@ -842,7 +866,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
         if (!all_finite(x.w)) { status = GjkStatus::degenerate; break; }
         size2 = std::max(size2, x.w.squaredNorm());
-        const S tiny2 = settings.touch_factor * settings.touch_factor * eps * eps * size2;  // (256·ε·size)²
+        const S tiny2 = settings.touch_factor * settings.touch_factor * eps * eps * tol2();  // (256·ε·size)²
         if (boolean && separates(v, x, true)) {
             status = GjkStatus::separated;
             if (exit_support) *exit_support = x;
@@ -932,9 +956,9 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         // Bergen 1999's lower bound; compared in squares, no sqrt without margins). An exit on |v| without one
         // (near contact, where the double sub-simplex step can misplace v) is decided by certify_exit.
         const S tf = settings.touch_factor * eps;
-        S thr2 = tf * tf * size2;
+        S thr2 = tf * tf * tol2();
         if (early_exit_margin > S(0)) {
-            const S thr = early_exit_margin + tf * std::max(std::sqrt(size2), early_exit_margin);
+            const S thr = early_exit_margin + tf * std::max(std::sqrt(tol2()), early_exit_margin);
             thr2 = thr * thr;
         }
         const bool proven = (lower_bound > S(0) && lower_bound * lower_bound > thr2) ||
@@ -1496,6 +1520,25 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
     }
     r.iterations = it + candidate_pairs;
     size2 = with_magnitudes(size2);
+    // gjk_finish decides an overlap of the margins on |v| (|v| − margin below −tol), which needs v on the simplex:
+    // on a sliver triangle the double step can put it well inside (a capsule of radius 1e-9 beside a 1e-11 wide
+    // box, 1e-9 of the size apart: |v| 7.0e-10 in double, 1.07e-9 in long double, and "intersecting" for a
+    // separated pair; found by the seeded hard-case count). Where the step's rounding could reach across the
+    // margin, it is redone in the wider type. Only on these exits, and only for margins and a final triangle.
+    if constexpr (!std::is_same_v<S, wider_t<S>>) {
+        if (margin > S(0) && s.size == 3 && status != GjkStatus::degenerate) {
+            const S across = std::sqrt(norm2(v)) - margin;
+            if (sliver_step_may_reach(s, across * across)) {
+                typename Solver::Sel fin;
+                if (refine_step(s, 2, fin, true)) {
+                    v = fin.v;
+                    vv = norm2(v);
+                    // Now beyond the margins: separated only with a plane, as for any exit on |v| (below).
+                    if (status == GjkStatus::touching) status = GjkStatus::separated;
+                }
+            }
+        }
+    }
     // Every support plane was tested above with gjk_finish's threshold, so a "separated" exit here (gap test,
     // repeated point, no progress) has no plane behind it: certify it unless |v| already lies within the
     // tolerance (then gjk_finish answers touching, or intersecting inside the margins: no separation claimed).

@@ -1,0 +1,306 @@
+#pragma once
+// A seeded corpus of convex pairs that are hard on purpose, for issue 5's robustness count (the test
+// test_gjk_hard_cases.cpp and the benchmark cdkit_bench_convex_hard run the same generator).
+//
+// Shapes: boxes, cylinders, capsules, cones, ellipsoids, spheres and qhull hulls, each drawn regular or
+// degenerate (flat: a box with one extent 0 or 1e-9 of the others, an ellipsoid or a hull 1e-7 thick; needle: a
+// box, cylinder, cone, ellipsoid or hull 1e-7 wide or less, a capsule of radius 1e-9), B scaled by 10^k, k ∈ −6…6,
+// so size ratios reach 1e6 either way. Placements: random (up to 2 sizes apart, A up to 100 sizes from the
+// origin), touching (gap 0), near contact (±1e-9, ±1e-12 of the size), shallow (±1e-4, ±1e-2), nested (same
+// pose: the smaller inside the larger, or a needle through it) and coincident (the same shape at the same pose);
+// gaps are set by long-double GJK along its closest-point normal (near_contact_pose.hpp).
+// Queries per case: cold boolean; boolean and distance warm-started from the cache their first call filled (a
+// second call at the same pose); gjk_distance cold; penetration() where either the reference or the cold
+// boolean says the pair collides.
+// Failures: a non-finite value in a result that reports it (distance, normal, points, depth), a status a query
+// may not give on finite shapes (max_iterations, degenerate), a boolean or a distance status that contradicts
+// long-double GJK where that is decisive (intersecting, or separated by more than 1e-9 of the size), a negative
+// depth or a depth's normal that is not unit. Counted, not failures: separation distances off the certified
+// interval by more than 1e-9 relative, EPA's statuses (max_iterations and degenerate carry a finite best
+// estimate), the slowest case (a hang would never end: every query has an iteration cap).
+#include <cdkit/narrowphase/convex_polyhedron.hpp>
+#include <cdkit/narrowphase/convex_shapes.hpp>
+#include <cdkit/narrowphase/epa.hpp>
+
+#include "convex_reference.hpp"
+#include "near_contact_pose.hpp"
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace cdkit::test::hard {
+
+using LD = long double;
+using Clock = std::chrono::steady_clock;
+
+enum Placement { random_pose, touching, near_contact, shallow, nested, coincident, placements };
+inline constexpr const char* placement_names[placements] = {"random",  "touching", "near",
+                                                             "shallow", "nested",   "coincident"};
+
+struct Counts {
+    long cases = 0, decisive = 0, colliding = 0, placed_random = 0;
+    long nonfinite = 0, bad_status = 0, wrong_boolean = 0, wrong_distance_status = 0, bad_depth = 0;
+    long distance_checked = 0, distance_outliers = 0, epa_runs = 0;
+    std::array<long, 5> epa_status{};
+    std::array<long, placements> by_placement{};
+    double slowest_us = 0;
+    std::string first_failures;  ///< one line for each of the first dozen failures
+    int described = 0;
+    [[nodiscard]] long failures() const {
+        return nonfinite + bad_status + wrong_boolean + wrong_distance_status + bad_depth;
+    }
+    void add(const Counts& c) {
+        cases += c.cases, decisive += c.decisive, colliding += c.colliding, placed_random += c.placed_random;
+        nonfinite += c.nonfinite, bad_status += c.bad_status, wrong_boolean += c.wrong_boolean;
+        wrong_distance_status += c.wrong_distance_status, bad_depth += c.bad_depth;
+        distance_checked += c.distance_checked, distance_outliers += c.distance_outliers, epa_runs += c.epa_runs;
+        for (std::size_t k = 0; k < epa_status.size(); ++k) epa_status[k] += c.epa_status[k];
+        for (std::size_t k = 0; k < by_placement.size(); ++k) by_placement[k] += c.by_placement[k];
+        slowest_us = std::max(slowest_us, c.slowest_us);
+        if (described < 12) first_failures += c.first_failures, described += c.described;
+    }
+};
+
+/// Draws shape parameters once per case; `make<double>` and `make<long double>` build the same shape.
+struct ShapeDraw {
+    double x = 0.1, y = 0.1, z = 0.1;  // extents (box half extents, radii, half heights)
+    int hull = 0;                       // hull pool index (kind × scale)
+};
+
+/// Hulls are built once (Qhull per case would dominate the run): regular, 1e-7 thin and 1e-7 needle, at every
+/// scale 10^k, k ∈ −6…6, in double and long double from the same points.
+struct HullPool {
+    static constexpr int kinds = 3, scales = 13;
+    std::vector<ConvexPolyhedron<double>> d;
+    std::vector<ConvexPolyhedron<LD>> l;
+    explicit HullPool(std::mt19937_64& rng) {
+        std::normal_distribution<double> g;
+        for (int kind = 0; kind < kinds; ++kind) {
+            std::vector<Vec3<double>> pts;
+            for (int i = 0; i < 60; ++i) {
+                Vec3<double> p = Vec3<double>(g(rng), g(rng), g(rng)).normalized() * 0.1;
+                if (kind == 1) p[2] *= 1e-6;  // a slab 1e-7 thick
+                if (kind == 2) p[0] *= 1e-6, p[1] *= 1e-6;  // a needle 1e-7 wide
+                pts.push_back(p);
+            }
+            for (int k = 0; k < scales; ++k) {
+                const double s = std::pow(10.0, k - 6);
+                std::vector<Vec3<double>> sd;
+                std::vector<Vec3<LD>> sl;
+                for (const auto& p : pts) sd.push_back(p * s), sl.push_back((p * s).cast<LD>());
+                d.emplace_back(sd);
+                l.emplace_back(sl);
+            }
+        }
+    }
+};
+
+template <class S> Vec3<S> v3(double x, double y, double z) { return Vec3<S>(S(x), S(y), S(z)); }
+
+/// The shape of class K from a draw, in scalar S (K: 0 box, 1 cylinder, 2 capsule, 3 cone, 4 ellipsoid, 5 sphere).
+template <int K, class S> auto make(const ShapeDraw& p) {
+    if constexpr (K == 0) return Box<S>(v3<S>(p.x, p.y, p.z));
+    else if constexpr (K == 1) return Cylinder<S>(S(p.x), S(p.z));
+    else if constexpr (K == 2) return Capsule<S>(S(p.x), S(p.z));
+    else if constexpr (K == 3) return Cone<S>(S(p.x), S(p.z));
+    else if constexpr (K == 4) return Ellipsoid<S>(v3<S>(p.x, p.y, p.z));
+    else return Sphere<S>(S(p.x));
+}
+
+/// Regular or degenerate extents for class K at scale s: flat (one extent 0 or 1e-9 of the others) or needle.
+inline ShapeDraw draw_extents(int kind, double s, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.05, 0.1);
+    ShapeDraw p{u(rng) * s, u(rng) * s, u(rng) * s, 0};
+    const int degenerate = std::uniform_int_distribution<int>(0, 2)(rng);  // 0 regular, 1 flat, 2 needle
+    const double tiny = std::uniform_int_distribution<int>(0, 1)(rng) ? 0.0 : 1e-9;
+    if (degenerate == 1 && (kind == 0 || kind == 4)) p.z = kind == 0 ? tiny * s : std::max(tiny, 1e-7) * s;
+    if (degenerate == 2) {
+        if (kind == 0) p.x = p.y = tiny * s;                  // a box needle (a segment when 0)
+        if (kind == 1 || kind == 3) p.x = 1e-7 * s;           // needle cylinder, needle cone
+        if (kind == 2) p.x = std::max(tiny, 1e-9) * s;        // capsule of radius 1e-9
+        if (kind == 4) p.x = p.y = 1e-7 * s;                  // needle ellipsoid
+    }
+    return p;
+}
+
+/// A shape in a few words, for the failure lines.
+inline std::string describe(const Box<double>& s) {
+    return "box " + std::to_string(s.half[0]) + " " + std::to_string(s.half[1]) + " " + std::to_string(s.half[2]);
+}
+inline std::string describe(const Cylinder<double>& s) {
+    return "cylinder " + std::to_string(s.radius) + " " + std::to_string(s.half_height);
+}
+inline std::string describe(const Capsule<double>& s) {
+    return "capsule " + std::to_string(s.radius) + " " + std::to_string(s.half_length);
+}
+inline std::string describe(const Cone<double>& s) {
+    return "cone " + std::to_string(s.radius) + " " + std::to_string(s.half_height);
+}
+inline std::string describe(const Ellipsoid<double>& s) {
+    return "ellipsoid " + std::to_string(s.radii[0]) + " " + std::to_string(s.radii[1]) + " " +
+           std::to_string(s.radii[2]);
+}
+inline std::string describe(const Sphere<double>& s) { return "sphere " + std::to_string(s.radius); }
+inline std::string describe(const ConvexPolyhedron<double>& s) {
+    return "hull of " + std::to_string(s.vertices().size()) + " vertices, radius " +
+           std::to_string(s.bounding_radius());
+}
+
+template <class A, class AL, class B, class BL>
+void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, std::mt19937_64& rng, Counts& c) {
+    const double size = a.bounding_radius() + b.bounding_radius();
+    Transform<double> pa(test::random_rotation(rng), test::random_unit(rng) * (size * std::pow(10.0, int(rng() % 4) - 1)));
+    Transform<double> pb = pa;
+    bool placed = true;
+    switch (m) {
+        case touching: placed = test::place_near_contact(al, bl, size, 0.0, rng, pa, pb); break;
+        case near_contact: {
+            const double g[4] = {1e-9, -1e-9, 1e-12, -1e-12};
+            placed = test::place_near_contact(al, bl, size, g[rng() % 4], rng, pa, pb);
+            break;
+        }
+        case shallow: {
+            const double g[4] = {1e-4, -1e-4, 1e-2, -1e-2};
+            placed = test::place_near_contact(al, bl, size, g[rng() % 4], rng, pa, pb);
+            break;
+        }
+        case nested:
+        case coincident: pb = pa; break;  // coincident: the caller passes the same shape twice
+        default: placed = false; break;
+    }
+    if (!placed) {  // random pose (also where long double gave no normal to place along)
+        pb = Transform<double>(test::random_rotation(rng),
+                               pa.t + test::random_unit(rng) * (size * std::uniform_real_distribution<double>(0, 2)(rng)));
+        c.placed_random += m != random_pose;
+    }
+    ++c.cases;
+    ++c.by_placement[std::size_t(m)];
+    const auto t0 = Clock::now();
+    GjkSettings<LD> exact;
+    exact.rel_tolerance = LD(1e-16);
+    const Transform<LD> pal(pa.R.cast<LD>(), pa.t.cast<LD>()), pbl(pb.R.cast<LD>(), pb.t.cast<LD>());
+    const auto ref = gjk_distance(al, pal, bl, pbl, nullptr, exact);
+    const bool ref_overlap = ref.status == GjkStatus::intersecting;
+    const bool decisive = ref_overlap || (ref.status == GjkStatus::separated && ref.distance > LD(1e-9 * size));
+    c.decisive += decisive;
+    c.colliding += ref.colliding();
+
+    const auto cold = gjk_intersect(a, pa, b, pb);
+    GjkCache<double> bool_cache, dist_cache;
+    (void)gjk_intersect(a, pa, b, pb, &bool_cache);
+    const auto warm = gjk_intersect(a, pa, b, pb, &bool_cache);
+    const auto dist = gjk_distance(a, pa, b, pb);
+    (void)gjk_distance(a, pa, b, pb, &dist_cache);
+    const auto warm_dist = gjk_distance(a, pa, b, pb, &dist_cache);
+
+    auto finite = [](const GjkResult<double>& r) {
+        if (!std::isfinite(r.distance)) return false;
+        if (r.status == GjkStatus::separated || r.status == GjkStatus::touching)
+            return r.normal.allFinite() && r.point_a.allFinite() && r.point_b.allFinite();
+        return true;
+    };
+    auto allowed = [](const GjkResult<double>& r) {
+        return r.status == GjkStatus::separated || r.status == GjkStatus::touching ||
+               r.status == GjkStatus::intersecting;
+    };
+    const char* const query_names[4] = {"cold boolean", "warm boolean", "distance", "warm distance"};
+    int q = 0;
+    for (const auto* r : {&cold, &warm, &dist, &warm_dist}) {
+        const long before = c.failures();
+        c.nonfinite += !finite(*r);
+        c.bad_status += !allowed(*r);
+        if (decisive && r->colliding() != ref_overlap) {
+            if (r == &dist || r == &warm_dist) ++c.wrong_distance_status;
+            else ++c.wrong_boolean;
+        }
+        if (c.failures() > before && c.described < 12) {
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "  failure: %s, %s placement, size %.3g, |t_a| %.3g: status %d distance %.17g it %d; "
+                          "long double status %d distance %.17Lg; ",
+                          query_names[q], placement_names[m], size, pa.t.norm(), int(r->status), r->distance,
+                          r->iterations, int(ref.status), ref.distance);
+            c.first_failures += line + describe(a) + " / " + describe(b) + "\n";
+            ++c.described;
+        }
+        ++q;
+    }
+    // Separation distances against the certified interval (reported).
+    if (ref.status == GjkStatus::separated && ref.distance > LD(1e-6 * size) && dist.status == GjkStatus::separated) {
+        ++c.distance_checked;
+        const auto [lower, upper] = test::certified_interval(al, pal, bl, pbl, ref, dist.normal);
+        const LD d = LD(dist.distance);
+        c.distance_outliers += d < lower * (1 - LD(1e-9)) || d > upper * (1 + LD(1e-9));
+    }
+    if (ref_overlap || cold.colliding()) {
+        ++c.epa_runs;
+        const auto p = penetration(a, pa, b, pb);
+        ++c.epa_status[std::size_t(p.status)];
+        const bool ok_numbers = std::isfinite(p.depth) && std::isfinite(p.distance) && p.normal.allFinite() &&
+                                p.point_a.allFinite() && p.point_b.allFinite();
+        c.nonfinite += !ok_numbers;
+        c.bad_depth += !(p.depth >= 0) || (p.depth > 0 && !(std::abs(p.normal.norm() - 1) <= 1e-9));
+    }
+    c.slowest_us = std::max(c.slowest_us, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+}
+
+/// One case of the primitive class pair (KA, KB); H selects a hull for A (KA = -1) or B (KB = -1).
+template <int KA, int KB>
+void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Counts& c) {
+    auto scale_b = [&] { return std::pow(10.0, std::uniform_int_distribution<int>(-6, 6)(rng)); };
+    auto hull_index = [&](double s) {
+        const int kind = std::uniform_int_distribution<int>(0, HullPool::kinds - 1)(rng);
+        return kind * HullPool::scales + int(std::lround(std::log10(s))) + 6;
+    };
+    if constexpr (KA < 0 && KB < 0) {
+        const int ia = hull_index(1.0), ib = m == coincident ? ia : hull_index(scale_b());
+        run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], hulls.d[std::size_t(ib)],
+                 hulls.l[std::size_t(ib)], m, rng, c);
+    } else if constexpr (KA < 0) {
+        const int ia = hull_index(1.0);
+        const ShapeDraw pb = draw_extents(KB, scale_b(), rng);
+        run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], make<KB, double>(pb), make<KB, LD>(pb),
+                 m == coincident ? nested : m, rng, c);
+    } else if constexpr (KB < 0) {
+        const ShapeDraw pa = draw_extents(KA, 1.0, rng);
+        const int ib = hull_index(scale_b());
+        run_case(make<KA, double>(pa), make<KA, LD>(pa), hulls.d[std::size_t(ib)], hulls.l[std::size_t(ib)],
+                 m == coincident ? nested : m, rng, c);
+    } else {
+        const ShapeDraw pa = draw_extents(KA, 1.0, rng);
+        const ShapeDraw pb = (KA == KB && m == coincident) ? pa : draw_extents(KB, scale_b(), rng);
+        run_case(make<KA, double>(pa), make<KA, LD>(pa), make<KB, double>(pb), make<KB, LD>(pb),
+                 KA == KB ? m : (m == coincident ? nested : m), rng, c);
+    }
+}
+
+/// The class pairs (−1: a hull): every class against a regular partner and against itself, hulls against all.
+using PairRun = void (*)(std::mt19937_64&, const HullPool&, Placement, Counts&);
+inline constexpr std::array<PairRun, 15> pair_runs = {
+    primitive_pair<0, 0>,  primitive_pair<0, 1>,   primitive_pair<1, 3>,   primitive_pair<2, 0>, primitive_pair<2, 2>,
+    primitive_pair<3, 3>,  primitive_pair<4, 1>,   primitive_pair<4, 4>,   primitive_pair<5, 0>, primitive_pair<-1, -1>,
+    primitive_pair<-1, 0>, primitive_pair<3, -1>,  primitive_pair<-1, 4>,  primitive_pair<5, -1>, primitive_pair<-1, 2>};
+inline constexpr std::array<const char*, 15> pair_names = {
+    "box-box",  "box-cyl",  "cyl-cone",  "caps-box", "caps-caps", "cone-cone", "ell-cyl", "ell-ell",
+    "sph-box",  "hull-hull", "hull-box", "cone-hull", "hull-ell", "sph-hull",  "hull-caps"};
+
+/// `cases` seeded cases, cycling through the class pairs; counts per pair.
+inline std::array<Counts, pair_runs.size()> run_hard_cases(long cases, unsigned long seed) {
+    std::mt19937_64 rng(seed);
+    const HullPool hulls(rng);
+    std::array<Counts, pair_runs.size()> per_pair{};
+    for (long i = 0; i < cases; ++i) {
+        const std::size_t p = std::size_t(i) % pair_runs.size();
+        const auto m = Placement(std::uniform_int_distribution<int>(0, placements - 1)(rng));
+        pair_runs[p](rng, hulls, m, per_pair[p]);
+    }
+    return per_pair;
+}
+
+}  // namespace cdkit::test::hard
