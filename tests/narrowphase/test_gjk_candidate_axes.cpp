@@ -253,8 +253,9 @@ TEST_CASE("candidate axes never claim a plane at contact, and their planes separ
     CHECK(t.close_box_decided >= t.close_box * 2 / 5);
     // Hull pairs: the face a point location finds the other's support point beyond (vertex–face contacts).
     CHECK(t.close_hulls_decided >= t.close_hulls / 5);
-    // Cone pairs: a rim or the apex against the other's side or base.
-    CHECK(t.close_cones_decided >= t.close_cones / 8);
+    // Cone pairs: a rim or the apex against the other's side or base (43 of 180 at scale 1; the 24 pairs of the
+    // reduced run are too few for a share, so there it only has to fire).
+    CHECK(t.close_cones_decided >= (t.close_cones >= 100 ? t.close_cones / 6 : 1));
 }
 
 TEST_CASE("candidate axes agree with the plain loop on random pairs", "[gjk][candidate]") {

@@ -28,6 +28,6 @@ TEST_CASE("hard convex cases: no failure against long double", "[gjk][hard]") {
     CHECK(all.bad_depth == 0);
     // The corpus is hard where it should be: most cases are decisive, every placement occurs, EPA runs.
     CHECK(all.decisive > all.cases / 2);
-    for (const long n : all.by_placement) CHECK(n > all.cases / 20);
+    for (const long n : all.by_placement) CHECK(n > all.cases / 40);  // coincident: same-class pairs only, ~5 %
     CHECK(all.epa_runs > all.cases / 3);
 }
