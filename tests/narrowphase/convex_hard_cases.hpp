@@ -67,10 +67,10 @@ struct Counts {
     }
 };
 
-/// Draws shape parameters once per case; `make<double>` and `make<long double>` build the same shape.
+/// A primitive's extents drawn once per case (box half extents, radii, half heights); `make<K, double>` and
+/// `make<K, long double>` build the same shape from them.
 struct ShapeDraw {
-    double x = 0.1, y = 0.1, z = 0.1;  // extents (box half extents, radii, half heights)
-    int hull = 0;                       // hull pool index (kind × scale)
+    double x = 0.1, y = 0.1, z = 0.1;
 };
 
 /// Hulls are built once (Qhull per case would dominate the run): regular, 1e-7 thin and 1e-7 needle, at every
@@ -116,7 +116,7 @@ template <int K, class S> auto make(const ShapeDraw& p) {
 /// Regular or degenerate extents for class K at scale s: flat (one extent 0 or 1e-9 of the others) or needle.
 inline ShapeDraw draw_extents(int kind, double s, std::mt19937_64& rng) {
     std::uniform_real_distribution<double> u(0.05, 0.1);
-    ShapeDraw p{u(rng) * s, u(rng) * s, u(rng) * s, 0};
+    ShapeDraw p{u(rng) * s, u(rng) * s, u(rng) * s};
     const int degenerate = std::uniform_int_distribution<int>(0, 2)(rng);  // 0 regular, 1 flat, 2 needle
     const double tiny = std::uniform_int_distribution<int>(0, 1)(rng) ? 0.0 : 1e-9;
     if (degenerate == 1 && (kind == 0 || kind == 4)) p.z = kind == 0 ? tiny * s : std::max(tiny, 1e-7) * s;
@@ -250,7 +250,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
     c.slowest_us = std::max(c.slowest_us, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
 }
 
-/// One case of the primitive class pair (KA, KB); H selects a hull for A (KA = -1) or B (KB = -1).
+/// One case of the class pair (KA, KB), make's classes or −1 for a hull from the pool.
 template <int KA, int KB>
 void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Counts& c) {
     auto scale_b = [&] { return std::pow(10.0, std::uniform_int_distribution<int>(-6, 6)(rng)); };
