@@ -1533,8 +1533,9 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
                 if (refine_step(s, 2, fin, true)) {
                     v = fin.v;
                     vv = norm2(v);
-                    // Now beyond the margins: separated only with a plane, as for any exit on |v| (below).
-                    if (status == GjkStatus::touching) status = GjkStatus::separated;
+                    // Beyond the margins now: claimed only with a plane, as for any exit on |v| (below).
+                    if (status == GjkStatus::touching && separation_claimed(vv, margin, tf, size2))
+                        status = GjkStatus::separated;
                 }
             }
         }
