@@ -8,8 +8,10 @@
 #include <catch2/catch.hpp>
 
 #include "convex_hard_cases.hpp"
+#include "sliver_face_case.hpp"
 #include "test_common.hpp"
 
+using namespace cdkit;
 using namespace cdkit::test::hard;
 
 TEST_CASE("hard convex cases: no failure against long double", "[gjk][hard]") {
@@ -30,4 +32,75 @@ TEST_CASE("hard convex cases: no failure against long double", "[gjk][hard]") {
     CHECK(all.decisive > all.cases / 2);
     for (const long n : all.by_placement) CHECK(n > all.cases / 40);  // coincident: same-class pairs only, ~5 %
     CHECK(all.epa_runs > all.cases / 3);
+}
+
+// The case the count found after its corpus was fixed (sliver_face_case.hpp): long-double GJK, the count's
+// reference, called a pair 3.46e-14 apart intersecting from a tetrahedron whose face lay along the needle; the
+// face test now takes a side only beyond its rounding. The double queries must not call it intersecting either,
+// and the cold boolean's plane must separate in long double (test_gjk_exact_plane_cgal.cpp proves it exactly).
+TEST_CASE("a tetrahedron face along a needle proves no overlap", "[gjk][hard]") {
+    namespace sf = cdkit::test::sliver_face;
+    using LD = long double;
+    const auto hull = sf::hull<double>();
+    const auto needle = sf::ellipsoid<double>();
+    const auto ph = sf::pose<double>(sf::pose_hull), pe = sf::pose<double>(sf::pose_ellipsoid);
+    const auto cold = gjk_intersect(hull, ph, needle, pe);
+    REQUIRE(cold.status == GjkStatus::separated);
+    // The plane along cold.normal, with long-double supports: a gap of 3.46e-14, far above long double's rounding
+    // of these magnitudes (|t| ≈ 11.5: ~1e-18).
+    const Vec3<LD> n = cold.normal.cast<LD>();
+    const auto phl = sf::pose<LD>(sf::pose_hull), pel = sf::pose<LD>(sf::pose_ellipsoid);
+    const auto hull_l = sf::hull<LD>();
+    const auto needle_l = sf::ellipsoid<LD>();
+    const Vec3<LD> top_a = phl.R * hull_l.support(Vec3<LD>(phl.R.transpose() * n)) + phl.t;
+    const Vec3<LD> low_b = pel.R * needle_l.support(Vec3<LD>(pel.R.transpose() * -n)) + pel.t;
+    CHECK(n.dot(low_b - top_a) > LD(3e-14));
+    // Long-double GJK (the count's reference, as it runs there) and the other double queries.
+    GjkSettings<LD> exact;
+    exact.rel_tolerance = LD(1e-16);
+    CHECK(gjk_distance(hull_l, phl, needle_l, pel, nullptr, exact).status != GjkStatus::intersecting);
+    CHECK(gjk_distance(hull, ph, needle, pe).status != GjkStatus::intersecting);
+    GjkCache<double> cache;
+    (void)gjk_intersect(hull, ph, needle, pe, &cache);
+    CHECK(gjk_intersect(hull, ph, needle, pe, &cache).status != GjkStatus::intersecting);
+}
+
+// GJK converges linearly on curved shapes, slowest on two needles: these ellipsoids (1e-7 × 0.18 and 1e-7 × 0.17)
+// 6e-12 apart, 17 from the origin, took 181 iterations in double (170 in long double) and ended on the old cap
+// of 128 (`max_iterations`, one of the count's last five failures). The default cap is 256 now.
+TEST_CASE("two needle ellipsoids near contact converge within the iteration cap", "[gjk][hard]") {
+    using LD = long double;
+    static constexpr double radii[6] = {
+        0x1.ad7f29abcaf48p-24, 0x1.ad7f29abcaf48p-24, 0x1.6be32fe87a4bcp-4,
+        0x1.ad7f29abcaf48p-24, 0x1.ad7f29abcaf48p-24, 0x1.5606e937aa7a6p-4,
+    };
+    static constexpr double poses[24] = {  // A then B: rotation row-major, translation
+        -0x1.ecec0137c8fd8p-3, 0x1.d2d7d1757354p-1, 0x1.54ae3f2dc13acp-2,
+        0x1.17348c14bf668p-1, 0x1.a471f5af03ecap-2, -0x1.7628ae4543227p-1,
+        -0x1.9b196eb43bc7p-1, 0x1.6b08b1fbd788p-8, -0x1.312d6e3c63162p-1,
+        0x1.10ab4a67e622ep+3, 0x1.d9fa6ee2292e2p+3, -0x1.1ee06b7e2c197p+1,
+        -0x1.dd4460844b89cp-1, 0x1.0fd816736bccfp-2, -0x1.f825d84b29e36p-3,
+        -0x1.c9a54d1a66c25p-3, 0x1.cf2ed47eae418p-4, 0x1.efaee806e5727p-1,
+        0x1.23af8cb178733p-2, 0x1.ea38ae90ed1c1p-1, -0x1.798db0c6dd3p-5,
+        0x1.10618dbdc7045p+3, 0x1.d9780591c18ecp+3, -0x1.179b2720d1364p+1,
+    };
+    auto pose = [](int k) {
+        Mat3<double> r;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) r(i, j) = poses[k + 3 * i + j];
+        return Transform<double>(r, Vec3<double>(poses[k + 9], poses[k + 10], poses[k + 11]));
+    };
+    const Ellipsoid<double> a(Vec3<double>(radii[0], radii[1], radii[2])), b(Vec3<double>(radii[3], radii[4], radii[5]));
+    const auto pa = pose(0), pb = pose(12);
+    const auto r = gjk_distance(a, pa, b, pb);
+    CHECK(r.status == GjkStatus::separated);
+    CHECK(r.iterations > 128);
+    GjkSettings<LD> exact;
+    exact.rel_tolerance = LD(1e-16);
+    const auto ref = gjk_distance(Ellipsoid<LD>(a.radii.cast<LD>()), Transform<LD>(pa.R.cast<LD>(), pa.t.cast<LD>()),
+                                  Ellipsoid<LD>(b.radii.cast<LD>()), Transform<LD>(pb.R.cast<LD>(), pb.t.cast<LD>()),
+                                  nullptr, exact);
+    REQUIRE(ref.status == GjkStatus::separated);
+    // 6.1e-12 apart with coordinates of 17: the double answer is within a few ε·|t| (4e-15) of the reference.
+    CHECK(std::abs(LD(r.distance) - ref.distance) < LD(1e-15));
 }

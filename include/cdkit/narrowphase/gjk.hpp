@@ -76,7 +76,11 @@ enum class GjkStatus {
 
 /// Tuning of a GJK query. Tolerances are relative; GJK scales them with the size of the shapes.
 template <class S = double> struct GjkSettings {
-    int max_iterations = 128;
+    /// Iteration cap (then `max_iterations`, with the best bound found). GJK converges linearly on curved shapes,
+    /// slowest where both are needles: in the 1M-case hard count (docs/convex.md, "Hard cases") two ellipsoids
+    /// 1e-7 wide near contact took up to 181 iterations in double (6 cases above 128, the cap FCL uses),
+    /// every other query at most 113. Only such pairs come near it; it still bounds every query.
+    int max_iterations = 256;
     /// Stop when the distance upper bound |v| is within rel_tolerance·|v| of the lower bound.
     S rel_tolerance = std::max(S(1e-10), S(64) * std::numeric_limits<S>::epsilon());
     /// Distances within touch_factor·ε·(size of D) of zero count as touching.
@@ -307,13 +311,36 @@ public:
         return ac.cross(bc);  // at c: (c − a) × (c − b)
     }
 
+    /// True when the origin's side of a face may be taken from side_o = −(n·p), n = e1 × e2, the face through p with
+    /// edges e1, e2 (computed differences of the points). Its rounding is 16ε times the triple product's
+    /// permanent, bounded by |e1|₁·|e2|₁·|p|₁ (Shewchuk, "Adaptive precision floating-point arithmetic and fast
+    /// robust geometric predicates", DCG 1997: orient3d's stage-A bound is about 7ε·permanent); beyond it the sign
+    /// is exact for those points. Within it, as a distance from the face's plane (bound/|n|), the rounding matters
+    /// where it exceeds a few touching tolerances (1024ε·scale, scale the largest coordinate): on a sliver face
+    /// (three support points along a needle 1e-8 wide and 0.02 long) the rounded normal tilts by ε over the sine of
+    /// its angle, and the origin 3.5e-14 beyond such a face was called inside even in long double (a separated pair
+    /// answered intersecting; an exact plane proves it apart, test_gjk_exact_plane_cgal.cpp). There the face counts as
+    /// outside and the search goes on from it, as for a flat tetrahedron. On a well-shaped face the sign is kept: its
+    /// error is below the tolerance, and the origin on a face of a tetrahedron deep inside D (coincident, nested
+    /// shapes) stays "intersecting".
+    static bool origin_side_certain(S side_o, const Vec3<S>& n, const Vec3<S>& e1, const Vec3<S>& e2,
+                                    const Vec3<S>& p, S scale) noexcept {
+        auto l1 = [](const Vec3<S>& x) { return std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]); };
+        const S eps = std::numeric_limits<S>::epsilon();
+        const S bound = S(16) * eps * (l1(e1) * l1(e2) * l1(p));
+        if (std::abs(side_o) > bound) return true;
+        const S tol = S(1024) * eps * scale;
+        return bound * bound <= tol * tol * norm2(n);
+    }
+
     static void tetrahedron(const GjkSimplex<S>& s, Sel& r) noexcept {
         static constexpr int faces[4][4] = {{0, 1, 2, 3}, {0, 3, 1, 2}, {0, 2, 3, 1}, {1, 3, 2, 0}};
         const S eps = std::numeric_limits<S>::epsilon();
         // A (numerically) flat tetrahedron cannot prove the origin inside: face normals built from nearly
         // coincident points are noise. Rounding in the coordinates is relative to their magnitude, so the
         // test compares the volume with ε·scale³ (treating a thin-but-real tetrahedron as flat is safe: it
-        // only sends the search to the faces).
+        // only sends the search to the faces). The origin's side of each face is decided only beyond its own
+        // rounding (`origin_side_certain`).
         S scale = S(0);
         for (std::size_t i = 0; i < 4; ++i) scale = std::max(scale, s.v[i].w.cwiseAbs().maxCoeff());
         const S vol6 = (s.v[1].w - s.v[0].w).dot((s.v[2].w - s.v[0].w).cross(s.v[3].w - s.v[0].w));
@@ -322,10 +349,11 @@ public:
         bool any = false;
         for (int f = 0; f < 4; ++f) {
             const Vec3<S>& p = s.v[std::size_t(faces[f][0])].w;
-            const Vec3<S> n = (s.v[std::size_t(faces[f][1])].w - p).cross(s.v[std::size_t(faces[f][2])].w - p);
+            const Vec3<S> e1 = s.v[std::size_t(faces[f][1])].w - p, e2 = s.v[std::size_t(faces[f][2])].w - p;
+            const Vec3<S> n = e1.cross(e2);
             const S side_l = n.dot(s.v[std::size_t(faces[f][3])].w - p);
             const S side_o = -n.dot(p);
-            outside[f] = flat || !(side_o * side_l > S(0));
+            outside[f] = flat || !(side_o * side_l > S(0)) || !origin_side_certain(side_o, n, e1, e2, p, scale);
             any = any || outside[f];
         }
         if (!any) {
@@ -364,14 +392,20 @@ public:
         const Vec3<S> n01 = cross3(e0, e1), n12 = cross3(e1, e2), n20 = cross3(e2, e0);
         const S vol6 = dot3(e0, n12);  // = e1·n20 = e2·n01: the side of the opposite vertex, faces through p3
         const bool flat = !(std::abs(vol6) > S(256) * eps * scale * scale * scale);
-        // Origin side of each face through p3: n·(0 − p3); outside when it differs in sign from the volume.
-        const bool out01 = flat || !(-dot3(n01, p3) * vol6 > S(0));  // face 3-0-1, opposite p2
-        const bool out12 = flat || !(-dot3(n12, p3) * vol6 > S(0));  // face 3-1-2, opposite p0
-        const bool out20 = flat || !(-dot3(n20, p3) * vol6 > S(0));  // face 3-2-0, opposite p1
+        // Origin side of each face through p3: n·(0 − p3); outside when it differs in sign from the volume or
+        // is within its rounding (`origin_side_certain`).
+        auto out = [&](const Vec3<S>& n, S side_l, const Vec3<S>& ea, const Vec3<S>& eb, const Vec3<S>& p) {
+            const S side_o = -dot3(n, p);
+            return flat || !(side_o * side_l > S(0)) || !origin_side_certain(side_o, n, ea, eb, p, scale);
+        };
+        const bool out01 = out(n01, vol6, e0, e1, p3);  // face 3-0-1, opposite p2
+        const bool out12 = out(n12, vol6, e1, e2, p3);  // face 3-1-2, opposite p0
+        const bool out20 = out(n20, vol6, e2, e0, p3);  // face 3-2-0, opposite p1
         // The old face 0-1-2: the origin is on p3's side in exact arithmetic (p3 was found along −v), but the
         // certificate needs the test.
-        const Vec3<S> m = cross3(minus(p1, p0), minus(p2, p0));
-        const bool out012 = flat || !(-dot3(m, p0) * dot3(m, minus(p3, p0)) > S(0));
+        const Vec3<S> f1 = minus(p1, p0), f2 = minus(p2, p0);
+        const Vec3<S> m = cross3(f1, f2);
+        const bool out012 = out(m, dot3(m, minus(p3, p0)), f1, f2, p0);
         if (!(out01 || out12 || out20 || out012)) {
             r.inside = true;
             r.size = 4;
