@@ -1,10 +1,12 @@
-// The exact proof behind the sliver-face regression (sliver_face_case.hpp): the plane that double GJK's cold
-// boolean reports separates the hull and the needle ellipsoid, in exact rational arithmetic on the very doubles
-// of the shapes, poses and normal. Long-double GJK had called the pair intersecting; this shows the oracle was
-// wrong, not the double answer. For a direction u (world): the hull's extreme is max over its vertices x of
-// u·(R_a x + t_a); the ellipsoid's is u·t_b − |diag(r)·R_bᵀu| (for any matrix R_b, orthonormal or not). The gap
-// L − √Q with L = u·t_b − max_a and Q = |diag(r)·R_bᵀu|² is positive iff L > 0 and L² > Q: no root needed.
+// Exact proofs behind two regressions where long-double GJK, the hard-case count's reference, was wrong: the plane
+// that double GJK's cold boolean reports separates the shapes, in exact rational arithmetic on the very doubles of
+// the shapes, poses and normal. For a direction u (world) and a shape given by points X (a hull's vertices, a box's
+// corners, a capsule core's end points) the extreme is max over x ∈ X of u·(R x + t); an ellipsoid adds
+// |diag(r)·Rᵀu| to its centre's u·t, a capsule's radius r·|u| (for any matrix R, orthonormal or not). The pair is
+// apart along u when L = min_B − max_A (points only) exceeds those root terms: L > 0 and L² > Q, no root taken.
+#include "convex_case_file.hpp"
 #include "sliver_face_case.hpp"
+#include "test_common.hpp"
 
 #include <cdkit/narrowphase/gjk.hpp>
 
@@ -13,39 +15,79 @@
 
 using namespace cdkit;
 namespace sf = cdkit::test::sliver_face;
+using Q = CGAL::Exact_rational;
+
+namespace {
+
+struct ExactPose {
+    Q r[3][3], t[3];
+    explicit ExactPose(const Transform<double>& p) {
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) r[i][j] = Q(p.R(i, j));
+            t[i] = Q(p.t[i]);
+        }
+    }
+    /// (Rᵀu)_j
+    [[nodiscard]] Q rotated(const Q u[3], int j) const { return r[0][j] * u[0] + r[1][j] * u[1] + r[2][j] * u[2]; }
+    [[nodiscard]] Q offset(const Q u[3]) const { return u[0] * t[0] + u[1] * t[1] + u[2] * t[2]; }
+};
+
+/// The extreme of u·(R x + t) over the points: the largest (sign +1) or the smallest (−1).
+Q extreme(const Q u[3], const ExactPose& p, const std::vector<Vec3<double>>& points, int sign) {
+    const Q ru[3] = {p.rotated(u, 0), p.rotated(u, 1), p.rotated(u, 2)};
+    Q best(0);
+    bool first = true;
+    for (const auto& x : points) {
+        const Q h = ru[0] * Q(x[0]) + ru[1] * Q(x[1]) + ru[2] * Q(x[2]);
+        if (first || (sign > 0 ? h > best : h < best)) best = h, first = false;
+    }
+    return best + p.offset(u);
+}
+
+/// The gap (L² − Q)/(L + √Q) as a double, for the message.
+double gap_estimate(const Q& l, const Q& q) {
+    return CGAL::to_double(l * l - q) / (CGAL::to_double(l) + std::sqrt(CGAL::to_double(q)));
+}
+
+}  // namespace
 
 TEST_CASE("the sliver-face pair is separated in exact arithmetic", "[gjk][hard][exact]") {
-    using Q = CGAL::Exact_rational;
-    const auto r = gjk_intersect(sf::hull<double>(), sf::pose<double>(sf::pose_hull), sf::ellipsoid<double>(),
-                                 sf::pose<double>(sf::pose_ellipsoid));
+    const auto ph = sf::pose<double>(sf::pose_hull), pe = sf::pose<double>(sf::pose_ellipsoid);
+    const auto r = gjk_intersect(sf::hull<double>(), ph, sf::ellipsoid<double>(), pe);
     REQUIRE(r.status == GjkStatus::separated);
     const Q u[3] = {Q(r.normal[0]), Q(r.normal[1]), Q(r.normal[2])};
-    auto rot = [](const std::array<double, 12>& p, int i, int j) -> Q { return Q(p[std::size_t(3 * i + j)]); };
-    auto rotated_u = [&](const std::array<double, 12>& p, int j) -> Q {  // (Rᵀu)_j
-        return rot(p, 0, j) * u[0] + rot(p, 1, j) * u[1] + rot(p, 2, j) * u[2];
-    };
-    auto u_dot_t = [&](const std::array<double, 12>& p) -> Q {
-        return u[0] * Q(p[9]) + u[1] * Q(p[10]) + u[2] * Q(p[11]);
-    };
-    const Q ua[3] = {rotated_u(sf::pose_hull, 0), rotated_u(sf::pose_hull, 1), rotated_u(sf::pose_hull, 2)};
-    // The hull is the points' hull: its extreme along u is the largest over the points.
-    bool first = true;
-    Q top_a(0);
-    for (const auto& x : sf::hull_points) {
-        const Q h = ua[0] * Q(x[0]) + ua[1] * Q(x[1]) + ua[2] * Q(x[2]);
-        if (first || h > top_a) top_a = h, first = false;
-    }
-    top_a += u_dot_t(sf::pose_hull);
-    Q q(0);
+    std::vector<Vec3<double>> points;
+    for (const auto& x : sf::hull_points) points.emplace_back(x[0], x[1], x[2]);
+    const ExactPose hull_pose(ph), needle_pose(pe);
+    const Q top_a = extreme(u, hull_pose, points, +1);
+    Q q(0);  // |diag(r)·R_bᵀu|²
     for (int j = 0; j < 3; ++j) {
-        const Q c = Q(sf::ellipsoid_radii[std::size_t(j)]) * rotated_u(sf::pose_ellipsoid, j);
+        const Q c = Q(sf::ellipsoid_radii[std::size_t(j)]) * needle_pose.rotated(u, j);
         q += c * c;
     }
-    const Q l = u_dot_t(sf::pose_ellipsoid) - top_a;
+    const Q l = needle_pose.offset(u) - top_a;
     CHECK(l > Q(0));
     CHECK(l * l > q);  // L > √Q: the ellipsoid's lowest point along u lies above the hull's highest
-    // The gap, (L² − Q)/(L + √Q), is 3.46e-14 (printed by a double estimate of the exact difference).
-    const double lf = CGAL::to_double(l), gap = CGAL::to_double(l * l - q) / (lf + std::sqrt(CGAL::to_double(q)));
-    INFO("exact gap ≈ " << gap);
-    CHECK(gap > 3e-14);
+    INFO("exact gap ≈ " << gap_estimate(l, q));
+    CHECK(gap_estimate(l, q) > 3e-14);  // 3.46e-14
+}
+
+TEST_CASE("the capsule beside a box needle is separated in exact arithmetic", "[gjk][hard][exact]") {
+    const auto c = cdkit::test::read_convex_case(cdkit::test::test_data_path("convex/capsule_box_needle.txt"));
+    const auto capsule = cdkit::test::build<Capsule, double>(c.a);
+    const auto box = cdkit::test::build<Box, double>(c.b);
+    const auto r = gjk_intersect(capsule, c.pose_a, box, c.pose_b);
+    REQUIRE(r.status == GjkStatus::separated);
+    const Q u[3] = {Q(r.normal[0]), Q(r.normal[1]), Q(r.normal[2])};
+    const std::vector<Vec3<double>> core = {{0, 0, -capsule.half_length}, {0, 0, capsule.half_length}};
+    std::vector<Vec3<double>> corners;
+    for (int k = 0; k < 8; ++k)
+        corners.emplace_back(k & 1 ? box.half[0] : -box.half[0], k & 2 ? box.half[1] : -box.half[1],
+                             k & 4 ? box.half[2] : -box.half[2]);
+    const Q l = extreme(u, ExactPose(c.pose_b), corners, -1) - extreme(u, ExactPose(c.pose_a), core, +1);
+    const Q q = Q(capsule.radius) * Q(capsule.radius) * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);  // (r·|u|)²
+    CHECK(l > Q(0));
+    CHECK(l * l > q);
+    INFO("exact gap ≈ " << gap_estimate(l, q));
+    CHECK(gap_estimate(l, q) > 7e-11);  // 7.9e-11
 }

@@ -262,13 +262,13 @@ public:
         Vec3<S> n = ab.cross(ac);
         S nn = n.squaredNorm();
         r.edges2 = ab2 * ac2;
-        if (nn < S(0.25) * r.edges2) {
+        const bool sliver = nn < S(0.25) * r.edges2;
+        if (sliver) {
             n = stable_normal(b, c, ab, ac, ab2, ac2, ab2 + ac2 - S(2) * (d2 - d4), r.edges2);
             nn = n.squaredNorm();
         }
         r.normal2 = nn;
-        if (!(denom > S(0)) || !(nn > S(0))) {
-            // Degenerate (collinear) triangle that the region tests did not resolve: best edge.
+        auto best_edge = [&] {
             Sel e;
             S best = std::numeric_limits<S>::infinity();
             const int edges[3][2] = {{i0, i1}, {i1, i2}, {i0, i2}};
@@ -278,7 +278,21 @@ public:
                 if (dd < best) { best = dd; r = e; }
             }
             if (!(best < std::numeric_limits<S>::infinity())) segment(s, i0, i1, r);  // NaN data: any edge
-            return;
+        };
+        // Degenerate (collinear) triangle that the region tests did not resolve: best edge.
+        if (!(denom > S(0)) || !(nn > S(0))) { best_edge(); return; }
+        // The plane projection (below) is a point of the triangle only where it lies inside. On a sliver the
+        // edge-region tests above are differences of products that cancel to rounding (a triangle 0.16 long and
+        // 1e-15 wide: its squared area 4e-32 against products of 6e-4), so they may call a projection interior
+        // that lies 1e-9 beyond a long edge: v then sits off the simplex, nearer than any of its points (|v|
+        // 7 % below the distance between a capsule of radius 1e-9 and a box needle, in long double: a separated
+        // pair answered intersecting). The projection's side of each edge, from the stable normal, decides it.
+        if (sliver) {
+            const Vec3<S> v = n * (n.dot(a) / nn);
+            const bool inside = !(ab.cross(Vec3<S>(v - a)).dot(n) < S(0)) &&
+                                !(Vec3<S>(c - b).cross(Vec3<S>(v - b)).dot(n) < S(0)) &&
+                                !(Vec3<S>(a - c).cross(Vec3<S>(v - c)).dot(n) < S(0));
+            if (!inside) { best_edge(); return; }
         }
         // Weights in ascending index order.
         const S l1 = vb / denom, l2 = vc / denom;
