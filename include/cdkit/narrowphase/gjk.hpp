@@ -287,8 +287,9 @@ public:
         // that lies 1e-9 beyond a long edge: v then sits off the simplex, nearer than any of its points (|v|
         // 7 % below the distance between a capsule of radius 1e-9 and a box needle, in long double: a separated
         // pair answered intersecting). The projection's side of each edge, from the stable normal, decides it.
+        // The plane projection is more accurate than the barycentric sum when v is small against a, b, c.
+        const Vec3<S> v = n * (n.dot(a) / nn);
         if (sliver) {
-            const Vec3<S> v = n * (n.dot(a) / nn);
             const bool inside = !(ab.cross(Vec3<S>(v - a)).dot(n) < S(0)) &&
                                 !(Vec3<S>(c - b).cross(Vec3<S>(v - b)).dot(n) < S(0)) &&
                                 !(Vec3<S>(a - c).cross(Vec3<S>(v - c)).dot(n) < S(0));
@@ -304,8 +305,7 @@ public:
         if (ids[o[0]] > ids[o[1]]) std::swap(o[0], o[1]);
         r.size = 3;
         for (int k = 0; k < 3; ++k) { r.idx[std::size_t(k)] = ids[o[k]]; r.lambda[std::size_t(k)] = lam[o[k]]; }
-        // The plane projection is more accurate than the barycentric sum when v is small against a, b, c.
-        r.v = n * (n.dot(a) / nn);
+        r.v = v;
     }
 
     /// Normal of triangle a, b, c as the cross product of the two edges at the vertex opposite the longest
@@ -1656,6 +1656,13 @@ template <class S>
 inline constexpr bool refines_near_contact =
     std::is_same_v<S, double> && std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits;
 
+template <SupportMapped A, SupportMapped B>
+inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                               const Transform<typename A::Scalar>& pose_b,
+                                               GjkCache<typename A::Scalar>* cache,
+                                               const GjkSettings<typename A::Scalar>& settings, bool boolean,
+                                               bool retry_cached_direction = true) noexcept;
+
 /// The near-contact refinement of a separated double distance query: GJK again in long double on the same
 /// shapes (`widened_shape`), in world axes (both shapes placed by their poses: the double loop's frame of A
 /// takes R_aᵀ for R_a's inverse, off by the rotation's rounding, ~1e-16 of the coordinates — as much as the
@@ -1695,14 +1702,8 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     // answered separated below that threshold.
     ws.touch_factor =
         W(settings.touch_factor) * W(std::numeric_limits<S>::epsilon()) / std::numeric_limits<W>::epsilon();
-    GjkResult<W> wr;
-    Vec3<W> v;
-    W size, lower;
-    GjkVertex<W> sep;
-    sep.w.setConstant(std::numeric_limits<W>::quiet_NaN());
-    const GjkStatus st = gjk_loop<true>(ta, tb, world, ws, &cache, false, margin_of(ta) + margin_of(tb), wr.simplex,
-                                        v, size, wr.iterations, lower, W(0), &sep, true);
-    gjk_finish(ta, world, tb, ws, wr, st, v, size, lower, sep, false);
+    // The distance query in W (no refinement of its own: W is the widest type).
+    const GjkResult<W> wr = gjk_query(ta, world, tb, world, &cache, ws, false);
     r.iterations += wr.iterations;
     if (wr.status != GjkStatus::separated) return;
     r.distance = S(wr.distance);
@@ -1729,7 +1730,7 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
                                                const Transform<typename A::Scalar>& pose_b,
                                                GjkCache<typename A::Scalar>* cache,
                                                const GjkSettings<typename A::Scalar>& settings,
-                                               bool boolean, bool retry_cached_direction = true) noexcept {
+                                               bool boolean, bool retry_cached_direction) noexcept {
     using S = typename A::Scalar;
     GjkResult<S> r;
     if (boolean && !cache) {
