@@ -1,11 +1,10 @@
-// Exact proofs behind two regressions where long-double GJK, the hard-case count's reference, was wrong: the plane
+// Exact proofs behind two regressions (tests/data/convex) where long-double GJK, the hard-case count's reference, was wrong: the plane
 // that double GJK's cold boolean reports separates the shapes, in exact rational arithmetic on the very doubles of
 // the shapes, poses and normal. For a direction u (world) and a shape given by points X (a hull's vertices, a box's
 // corners, a capsule core's end points) the extreme is max over x ∈ X of u·(R x + t); an ellipsoid adds
 // |diag(r)·Rᵀu| to its centre's u·t, a capsule's radius r·|u| (for any matrix R, orthonormal or not). The pair is
 // apart along u when L = min_B − max_A (points only) exceeds those root terms: L > 0 and L² > Q, no root taken.
 #include "convex_case_file.hpp"
-#include "sliver_face_case.hpp"
 #include "test_common.hpp"
 
 #include <cdkit/narrowphase/gjk.hpp>
@@ -14,7 +13,6 @@
 #include <catch2/catch.hpp>
 
 using namespace cdkit;
-namespace sf = cdkit::test::sliver_face;
 using Q = CGAL::Exact_rational;
 
 namespace {
@@ -52,18 +50,21 @@ double gap_estimate(const Q& l, const Q& q) {
 }  // namespace
 
 TEST_CASE("the sliver-face pair is separated in exact arithmetic", "[gjk][hard][exact]") {
-    const auto ph = sf::pose<double>(sf::pose_hull), pe = sf::pose<double>(sf::pose_ellipsoid);
-    const auto r = gjk_intersect(sf::hull<double>(), ph, sf::ellipsoid<double>(), pe);
+    const auto c = cdkit::test::read_convex_case(cdkit::test::test_data_path("convex/hull_needle_sliver_face.txt"));
+    const auto hull = cdkit::test::build<ConvexPolyhedron, double>(c.a);
+    const auto needle = cdkit::test::build<Ellipsoid, double>(c.b);
+    const auto r = gjk_intersect(hull, c.pose_a, needle, c.pose_b);
     REQUIRE(r.status == GjkStatus::separated);
     const Q u[3] = {Q(r.normal[0]), Q(r.normal[1]), Q(r.normal[2])};
-    std::vector<Vec3<double>> points;
-    for (const auto& x : sf::hull_points) points.emplace_back(x[0], x[1], x[2]);
-    const ExactPose hull_pose(ph), needle_pose(pe);
-    const Q top_a = extreme(u, hull_pose, points, +1);
+    std::vector<Vec3<double>> points;  // the file's points: their hull is the shape
+    for (std::size_t i = 0; i + 2 < c.a.numbers.size(); i += 3)
+        points.emplace_back(c.a.numbers[i], c.a.numbers[i + 1], c.a.numbers[i + 2]);
+    const ExactPose needle_pose(c.pose_b);
+    const Q top_a = extreme(u, ExactPose(c.pose_a), points, +1);
     Q q(0);  // |diag(r)·R_bᵀu|²
     for (int j = 0; j < 3; ++j) {
-        const Q c = Q(sf::ellipsoid_radii[std::size_t(j)]) * needle_pose.rotated(u, j);
-        q += c * c;
+        const Q e = Q(needle.radii[j]) * needle_pose.rotated(u, j);
+        q += e * e;
     }
     const Q l = needle_pose.offset(u) - top_a;
     CHECK(l > Q(0));

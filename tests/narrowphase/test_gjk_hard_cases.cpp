@@ -9,7 +9,6 @@
 
 #include "convex_hard_cases.hpp"
 #include "convex_case_file.hpp"
-#include "sliver_face_case.hpp"
 #include "test_common.hpp"
 
 using namespace cdkit;
@@ -35,24 +34,26 @@ TEST_CASE("hard convex cases: no failure against long double", "[gjk][hard]") {
     CHECK(all.epa_runs > all.cases / 3);
 }
 
-// The case the count found after its corpus was fixed (sliver_face_case.hpp): long-double GJK, the count's
-// reference, called a pair 3.46e-14 apart intersecting from a tetrahedron whose face lay along the needle; the
-// face test now takes a side only beyond its rounding. The double queries must not call it intersecting either,
-// and the cold boolean's plane must separate in long double (test_gjk_exact_plane_cgal.cpp proves it exactly).
+// The case the count found after its corpus was fixed (tests/data/convex/hull_needle_sliver_face.txt): long-double
+// GJK, the count's reference, called a pair 3.46e-14 apart intersecting from a tetrahedron whose face lay along the
+// needle; the face test now takes a side only beyond its rounding. The double queries must not call it intersecting
+// either, and the cold boolean's plane must separate in long double (test_gjk_exact_plane_cgal.cpp proves it
+// exactly).
 TEST_CASE("a tetrahedron face along a needle proves no overlap", "[gjk][hard]") {
-    namespace sf = cdkit::test::sliver_face;
     using LD = long double;
-    const auto hull = sf::hull<double>();
-    const auto needle = sf::ellipsoid<double>();
-    const auto ph = sf::pose<double>(sf::pose_hull), pe = sf::pose<double>(sf::pose_ellipsoid);
+    const auto c = cdkit::test::read_convex_case(cdkit::test::test_data_path("convex/hull_needle_sliver_face.txt"));
+    const auto hull = cdkit::test::build<ConvexPolyhedron, double>(c.a);
+    const auto needle = cdkit::test::build<Ellipsoid, double>(c.b);
+    const auto& ph = c.pose_a;
+    const auto& pe = c.pose_b;
     const auto cold = gjk_intersect(hull, ph, needle, pe);
     REQUIRE(cold.status == GjkStatus::separated);
     // The plane along cold.normal, with long-double supports: a gap of 3.46e-14, far above long double's rounding
     // of these magnitudes (|t| ≈ 11.5: ~1e-18).
     const Vec3<LD> n = cold.normal.cast<LD>();
-    const auto phl = sf::pose<LD>(sf::pose_hull), pel = sf::pose<LD>(sf::pose_ellipsoid);
-    const auto hull_l = sf::hull<LD>();
-    const auto needle_l = sf::ellipsoid<LD>();
+    const auto phl = cdkit::test::cast_pose<LD>(ph), pel = cdkit::test::cast_pose<LD>(pe);
+    const auto hull_l = cdkit::test::build<ConvexPolyhedron, LD>(c.a);
+    const auto needle_l = cdkit::test::build<Ellipsoid, LD>(c.b);
     const Vec3<LD> top_a = phl.R * hull_l.support(Vec3<LD>(phl.R.transpose() * n)) + phl.t;
     const Vec3<LD> low_b = pel.R * needle_l.support(Vec3<LD>(pel.R.transpose() * -n)) + pel.t;
     CHECK(n.dot(low_b - top_a) > LD(3e-14));
