@@ -9,6 +9,8 @@
 
 #include <cdkit/narrowphase/gjk.hpp>
 
+#include <array>
+
 #include <CGAL/Exact_rational.h>  // boost::multiprecision or Gmpq: results typed Q, never auto (expression templates)
 #include <catch2/catch.hpp>
 
@@ -42,6 +44,14 @@ Q extreme(const Q u[3], const ExactPose& p, const std::vector<Vec3<double>>& poi
     return best + p.offset(u);
 }
 
+/// The cold boolean's separating direction (world, A towards B) as exact rationals; the query must say separated.
+template <class A, class B>
+std::array<Q, 3> reported_direction(const A& a, const Transform<double>& pa, const B& b, const Transform<double>& pb) {
+    const auto r = gjk_intersect(a, pa, b, pb);
+    REQUIRE(r.status == GjkStatus::separated);
+    return {Q(r.normal[0]), Q(r.normal[1]), Q(r.normal[2])};
+}
+
 /// The gap (L² − Q)/(L + √Q) as a double, for the message.
 double gap_estimate(const Q& l, const Q& q) {
     return CGAL::to_double(l * l - q) / (CGAL::to_double(l) + std::sqrt(CGAL::to_double(q)));
@@ -53,9 +63,8 @@ TEST_CASE("the sliver-face pair is separated in exact arithmetic", "[gjk][hard][
     const auto c = cdkit::test::read_convex_case(cdkit::test::test_data_path("convex/hull_needle_sliver_face.txt"));
     const auto hull = cdkit::test::build<ConvexPolyhedron, double>(c.a);
     const auto needle = cdkit::test::build<Ellipsoid, double>(c.b);
-    const auto r = gjk_intersect(hull, c.pose_a, needle, c.pose_b);
-    REQUIRE(r.status == GjkStatus::separated);
-    const Q u[3] = {Q(r.normal[0]), Q(r.normal[1]), Q(r.normal[2])};
+    const auto direction = reported_direction(hull, c.pose_a, needle, c.pose_b);
+    const Q* u = direction.data();
     std::vector<Vec3<double>> points;  // the file's points: their hull is the shape
     for (std::size_t i = 0; i + 2 < c.a.numbers.size(); i += 3)
         points.emplace_back(c.a.numbers[i], c.a.numbers[i + 1], c.a.numbers[i + 2]);
@@ -77,9 +86,8 @@ TEST_CASE("the capsule beside a box needle is separated in exact arithmetic", "[
     const auto c = cdkit::test::read_convex_case(cdkit::test::test_data_path("convex/capsule_box_needle.txt"));
     const auto capsule = cdkit::test::build<Capsule, double>(c.a);
     const auto box = cdkit::test::build<Box, double>(c.b);
-    const auto r = gjk_intersect(capsule, c.pose_a, box, c.pose_b);
-    REQUIRE(r.status == GjkStatus::separated);
-    const Q u[3] = {Q(r.normal[0]), Q(r.normal[1]), Q(r.normal[2])};
+    const auto direction = reported_direction(capsule, c.pose_a, box, c.pose_b);
+    const Q* u = direction.data();
     const std::vector<Vec3<double>> core = {{0, 0, -capsule.half_length}, {0, 0, capsule.half_length}};
     std::vector<Vec3<double>> corners;
     for (int k = 0; k < 8; ++k)
