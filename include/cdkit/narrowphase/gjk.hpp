@@ -281,7 +281,7 @@ public:
         };
         // Degenerate (collinear) triangle that the region tests did not resolve: best edge.
         if (!(denom > S(0)) || !(nn > S(0))) { best_edge(); return; }
-        // The plane projection (below) is a point of the triangle only where it lies inside. On a sliver the
+        // The plane projection is a point of the triangle only where it lies inside. On a sliver the
         // edge-region tests above are differences of products that cancel to rounding (a triangle 0.16 long and
         // 1e-15 wide: its squared area 4e-32 against products of 6e-4), so they may call a projection interior
         // that lies 1e-9 beyond a long edge: v then sits off the simplex, nearer than any of its points (|v|
@@ -339,9 +339,8 @@ public:
     /// shapes) stays "intersecting".
     static bool origin_side_certain(S side_o, const Vec3<S>& n, const Vec3<S>& e1, const Vec3<S>& e2,
                                     const Vec3<S>& p, S scale) noexcept {
-        auto l1 = [](const Vec3<S>& x) { return std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]); };
         const S eps = std::numeric_limits<S>::epsilon();
-        const S bound = S(16) * eps * (l1(e1) * l1(e2) * l1(p));
+        const S bound = S(16) * eps * (norm1(e1) * norm1(e2) * norm1(p));
         if (std::abs(side_o) > bound) return true;
         const S tol = S(1024) * eps * scale;
         return bound * bound <= tol * tol * norm2(n);
@@ -1119,8 +1118,7 @@ inline bool bounding_ball_decides(const A& a, const Transform<typename A::Scalar
                                   GjkResult<typename A::Scalar>& r) noexcept {
     using S = typename A::Scalar;
     const S ra = a.bounding_radius(), rb = b.bounding_radius();
-    auto abs1 = [](const Vec3<S>& x) { return std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]); };
-    const S slack = tf * (abs1(pose_a.t) + abs1(pose_b.t) + abs1(ca) + abs1(cb) + ra + rb);
+    const S slack = tf * (norm1(pose_a.t) + norm1(pose_b.t) + norm1(ca) + norm1(cb) + ra + rb);
     const S outer = ra + rb + slack;
     if (dd > outer * outer) {
         const S len = std::sqrt(dd);
@@ -1165,10 +1163,9 @@ CDKIT_ALWAYS_INLINE typename A::Scalar containment_slack(const A& a, const Trans
                                                          const B& b, const Transform<typename A::Scalar>& pose_b,
                                                          typename A::Scalar tf) noexcept {
     using S = typename A::Scalar;
-    auto abs1 = [](const Vec3<S>& v) { return std::abs(v[0]) + std::abs(v[1]) + std::abs(v[2]); };
     // At least 16ε, so that a touch_factor of 0 still leaves the transforms' rounding covered.
     const S t = std::max(tf, S(16) * std::numeric_limits<S>::epsilon());
-    return t * (abs1(pose_a.t) + abs1(pose_b.t) + S(2) * (a.bounding_radius() + b.bounding_radius()));
+    return t * (norm1(pose_a.t) + norm1(pose_b.t) + S(2) * (a.bounding_radius() + b.bounding_radius()));
 }
 template <SupportMapped A, SupportMapped B>
 CDKIT_ALWAYS_INLINE bool containment_decides(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
@@ -1187,10 +1184,9 @@ CDKIT_ALWAYS_INLINE bool containment_decides(const A& a, const Transform<typenam
         return in;
     };
     if (!inside(S(0))) return false;
-    auto abs1 = [](const Vec3<S>& v) { return std::abs(v[0]) + std::abs(v[1]) + std::abs(v[2]); };
     // At least 16ε, so that a touch_factor of 0 still leaves the transforms' rounding covered.
     const S t = std::max(tf, S(16) * std::numeric_limits<S>::epsilon());
-    return inside(t * (abs1(pose_a.t) + abs1(pose_b.t) + S(2) * (a.bounding_radius() + b.bounding_radius())));
+    return inside(t * (norm1(pose_a.t) + norm1(pose_b.t) + S(2) * (a.bounding_radius() + b.bounding_radius())));
 }
 /// The same for shapes that locate points by walking (HasPointLocation, a hull): one pass with the slack, B's
 /// location first and A's only when B does not contain A's point, each walk starting among the triangles around

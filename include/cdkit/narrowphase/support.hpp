@@ -189,6 +189,10 @@ template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE S dot3(const Vec3<S>& a, co
 template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE S norm2(const Vec3<S>& a) noexcept {
     return a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
 }
+/// |a|₁, the magnitude that rounding slacks and error bounds scale with.
+template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE S norm1(const Vec3<S>& a) noexcept {
+    return std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]);
+}
 template <class S> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<S> neg(const Vec3<S>& a) noexcept {
     return Vec3<S>(-a[0], -a[1], -a[2]);
 }
