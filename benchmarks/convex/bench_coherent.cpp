@@ -67,26 +67,49 @@ struct Outcome {
 
 volatile double g_sink = 0;
 
-/// Runs `query(frame_index, out)` over all frames `reps` times (each repetition starts with fresh caches
-/// via `reset`), timing batches of consecutive frames. Answers are kept from the last repetition.
-template <class Reset, class Query> Outcome run(const Scene& s, int reps, Reset reset, Query query) {
-    Outcome o;
+/// One method of the table: its per-frame query and the reset of its caches before each repetition.
+template <class Reset, class Query> struct Method {
+    const char* name;
+    bool distance;  // the method reports a distance
+    Reset reset;
+    Query query;
+};
+template <class Reset, class Query> Method(const char*, bool, Reset, Query) -> Method<Reset, Query>;
+
+/// One repetition of one method: all frames, timed in batches of consecutive frames.
+template <class M> void run_once(const Scene& s, M& method, Outcome& o) {
     const std::size_t n = s.frames.size();
-    o.hit.assign(n, 0);
-    o.distance.assign(n, std::nan(""));
-    for (int r = 0; r < reps; ++r) {
-        reset();
-        o.iterations = 0;
-        o.fallbacks = 0;
-        for (std::size_t b = 0; b < n; b += batch) {
-            const std::size_t e = std::min(n, b + batch);
-            auto t0 = Clock::now();
-            for (std::size_t f = b; f < e; ++f) query(f, o);
-            auto t1 = Clock::now();
-            o.batch_ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / double(e - b));
-        }
+    method.reset();
+    o.iterations = 0;
+    o.fallbacks = 0;
+    for (std::size_t b = 0; b < n; b += batch) {
+        const std::size_t e = std::min(n, b + batch);
+        auto t0 = Clock::now();
+        for (std::size_t f = b; f < e; ++f) method.query(f, o);
+        auto t1 = Clock::now();
+        o.batch_ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / double(e - b));
     }
-    return o;
+}
+
+/// Runs every method over all frames `reps` times. The repetitions interleave the methods (repetition r runs
+/// them all, starting at method r mod count), so that a slow phase of the machine (a neighbour's load, a
+/// frequency change) falls on all of them alike instead of on whichever method ran then: the ratios between
+/// rows are what the table is for. Each repetition starts with fresh caches (`reset`); answers are kept from the
+/// last one. The methods stay separate types (no std::function): their queries are inlined into the timed loop.
+template <class... M> std::vector<Outcome> run(const Scene& s, int reps, M&... methods) {
+    constexpr std::size_t m = sizeof...(M);
+    std::vector<Outcome> out(m);
+    for (Outcome& o : out) {
+        o.hit.assign(s.frames.size(), 0);
+        o.distance.assign(s.frames.size(), std::nan(""));
+    }
+    for (int r = 0; r < reps; ++r)
+        for (std::size_t k = 0; k < m; ++k) {
+            const std::size_t i = (std::size_t(r) + k) % m;
+            std::size_t j = 0;
+            ((j++ == i ? run_once(s, methods, out[i]) : void()), ...);
+        }
+    return out;
 }
 
 /// Builds a scene: A spins in place, B spins and orbits A; the gap along the closest-point normal follows
@@ -182,68 +205,79 @@ int main(int argc, char** argv) {
         long ref_hits = 0;
         for (const auto& fr : s.frames) ref_hits += fr.ref_hit;
         std::printf("\nscene %s: %zu frames, %ld colliding (reference)\n", s.name.c_str(), s.frames.size(), ref_hits);
-        struct Named {
-            const char* name;
-            Outcome o;
-            bool distance;
-        };
-        std::vector<Named> rows;
         auto noop = [] {};
-        rows.push_back({"cold GJK distance", run(s, reps, noop, [&](std::size_t f, Outcome& o) {
-                             auto r = gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb);
-                             o.hit[f] = r.colliding();
-                             o.distance[f] = r.distance;
-                             o.iterations += r.iterations;
-                         }), true});
-        rows.push_back({"cold GJK boolean", run(s, reps, noop, [&](std::size_t f, Outcome& o) {
-                             auto r = gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb);
-                             o.hit[f] = r.colliding();
-                             o.iterations += r.iterations;
-                         }), false});
         GjkCache<double> gc;
-        rows.push_back({"warm GJK distance", run(s, reps, [&] { gc.size = 0; }, [&](std::size_t f, Outcome& o) {
-                             auto r = gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb, &gc);
-                             o.hit[f] = r.colliding();
-                             o.distance[f] = r.distance;
-                             o.iterations += r.iterations;
-                         }), true});
-        rows.push_back({"warm GJK boolean", run(s, reps, [&] { gc.size = 0; }, [&](std::size_t f, Outcome& o) {
-                             auto r = gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &gc);
-                             o.hit[f] = r.colliding();
-                             o.iterations += r.iterations;
-                         }), false});
+        auto reset_gjk = [&] { gc.size = 0; };
         SeparatingPlaneCache<double> sc;
         auto reset_plane = [&] { sc.valid = false; sc.gjk.size = 0; };
-        rows.push_back({"separating plane", run(s, reps, reset_plane, [&](std::size_t f, Outcome& o) {
-                             auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, sc);
-                             o.hit[f] = r.colliding;
-                             o.iterations += r.iterations;
-                             o.fallbacks += r.used_gjk;
-                         }), false});
         ClosestFeatureCache<double> cc;
         auto reset_features = [&] { cc.valid = false; cc.gjk.size = 0; };
-        rows.push_back({"closest features", run(s, reps, reset_features, [&](std::size_t f, Outcome& o) {
-                             auto r = closest_features(a, s.frames[f].pa, b, s.frames[f].pb, &cc);
-                             o.hit[f] = r.colliding();
-                             o.distance[f] = r.distance;
-                             o.iterations += r.iterations;
-                             o.fallbacks += r.used_gjk;
-                         }), true});
         ccd_t ccd = bench::make_ccd();
-        rows.push_back({"libccd GJK", run(s, reps, noop, [&](std::size_t f, Outcome& o) {
-                             bench::CcdObject oa = bench::make_ccd_object(a, s.frames[f].pa);
-                             bench::CcdObject ob = bench::make_ccd_object(b, s.frames[f].pb);
-                             o.hit[f] = char(ccdGJKIntersect(&oa, &ob, &ccd) != 0);
-                         }), false});
-        rows.push_back({"libccd MPR", run(s, reps, noop, [&](std::size_t f, Outcome& o) {
-                             bench::CcdObject oa = bench::make_ccd_object(a, s.frames[f].pa);
-                             bench::CcdObject ob = bench::make_ccd_object(b, s.frames[f].pb);
-                             o.hit[f] = char(ccdMPRIntersect(&oa, &ob, &ccd) != 0);
-                         }), false});
+        Method cold_distance{"cold GJK distance", true, noop, [&](std::size_t f, Outcome& o) {
+                                 auto r = gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb);
+                                 o.hit[f] = r.colliding();
+                                 o.distance[f] = r.distance;
+                                 o.iterations += r.iterations;
+                             }};
+        Method cold_boolean{"cold GJK boolean", false, noop, [&](std::size_t f, Outcome& o) {
+                                auto r = gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb);
+                                o.hit[f] = r.colliding();
+                                o.iterations += r.iterations;
+                            }};
+        Method warm_distance{"warm GJK distance", true, reset_gjk, [&](std::size_t f, Outcome& o) {
+                                 auto r = gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb, &gc);
+                                 o.hit[f] = r.colliding();
+                                 o.distance[f] = r.distance;
+                                 o.iterations += r.iterations;
+                             }};
+        Method warm_boolean{"warm GJK boolean", false, reset_gjk, [&](std::size_t f, Outcome& o) {
+                                auto r = gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &gc);
+                                o.hit[f] = r.colliding();
+                                o.iterations += r.iterations;
+                            }};
+        Method plane{"separating plane", false, reset_plane, [&](std::size_t f, Outcome& o) {
+                         auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, sc);
+                         o.hit[f] = r.colliding;
+                         o.iterations += r.iterations;
+                         o.fallbacks += r.used_gjk;
+                     }};
+        Method features{"closest features", true, reset_features, [&](std::size_t f, Outcome& o) {
+                            auto r = closest_features(a, s.frames[f].pa, b, s.frames[f].pb, &cc);
+                            o.hit[f] = r.colliding();
+                            o.distance[f] = r.distance;
+                            o.iterations += r.iterations;
+                            o.fallbacks += r.used_gjk;
+                        }};
+        Method ccd_gjk{"libccd GJK", false, noop, [&](std::size_t f, Outcome& o) {
+                           bench::CcdObject oa = bench::make_ccd_object(a, s.frames[f].pa);
+                           bench::CcdObject ob = bench::make_ccd_object(b, s.frames[f].pb);
+                           o.hit[f] = char(ccdGJKIntersect(&oa, &ob, &ccd) != 0);
+                       }};
+        Method ccd_mpr{"libccd MPR", false, noop, [&](std::size_t f, Outcome& o) {
+                           bench::CcdObject oa = bench::make_ccd_object(a, s.frames[f].pa);
+                           bench::CcdObject ob = bench::make_ccd_object(b, s.frames[f].pb);
+                           o.hit[f] = char(ccdMPRIntersect(&oa, &ob, &ccd) != 0);
+                       }};
+        std::vector<Outcome> outcomes = run(s, reps, cold_distance, cold_boolean, warm_distance, warm_boolean, plane,
+                                            features, ccd_gjk, ccd_mpr);
+        struct Named {
+            const char* name;
+            Outcome& o;
+            bool distance;
+        };
+        const std::vector<Named> rows = {
+            {cold_distance.name, outcomes[0], cold_distance.distance},
+            {cold_boolean.name, outcomes[1], cold_boolean.distance},
+            {warm_distance.name, outcomes[2], warm_distance.distance},
+            {warm_boolean.name, outcomes[3], warm_boolean.distance},
+            {plane.name, outcomes[4], plane.distance},
+            {features.name, outcomes[5], features.distance},
+            {ccd_gjk.name, outcomes[6], ccd_gjk.distance},
+            {ccd_mpr.name, outcomes[7], ccd_mpr.distance}};
         const double cold_dist = rows[0].o.median(), cold_bool = rows[1].o.median();
         std::printf("  %-18s | %9s | %11s %11s | %7s | %9s | %-22s | %s\n", "method", "median ns", "cold dist/x",
                     "cold bool/x", "mean it", "GJK used", "wrong booleans", "distance rel.err > 1e-9 (max)");
-        for (auto& row : rows) {
+        for (const Named& row : rows) {
             const double med = row.o.median();
             const Errors e = errors(s, row.o, scale);
             char dist[64] = "-";

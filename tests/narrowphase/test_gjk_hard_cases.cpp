@@ -145,6 +145,15 @@ TEST_CASE("sliver triangle steps keep v on the simplex", "[gjk][hard]") {
     check_separated_case<Cone, ConvexPolyhedron>("cone_small_hull.txt", 1e-14);
 }
 
+TEST_CASE("a sliver final triangle does not put a separated margin pair in contact", "[gjk][hard]") {
+    // The count's first cold-boolean failure (seed 1, fadd9b3): a capsule of radius 1e-9 beside a box 1e-11 wide,
+    // 6.6e-11 apart. The margins' overlap is decided on |v|, and the final triangle was a sliver whose double step
+    // put |v| at 7.0e-10 (1.07e-9 in long double): "intersecting". Guarded twice now: the cold boolean redoes such
+    // a step in long double where its rounding could cross the margin (`sliver_step_may_reach`), and the triangle
+    // step's edge-side check on slivers alone also answers this pair correctly. |t| is 0.0066: 1e-16 is 68ε·|t|.
+    check_separated_case<Capsule, Box>("capsule_box_margin_sliver.txt", 1e-16);
+}
+
 TEST_CASE("a malformed convex case file is named in the error", "[gjk][hard]") {
     CHECK_THROWS_WITH(cdkit::test::read_convex_case("/nonexistent/case.txt"), Catch::Contains("/nonexistent/case.txt"));
 }
