@@ -440,6 +440,38 @@ public:
         consider(out012, 0, 1, 2);
     }
 
+    /// True when the origin lies strictly inside conv(T ∪ {wp, wm}), T the triangle t0, t1, t2, with every sign
+    /// beyond its rounding (`origin_side_certain`): wp and wm on opposite sides of T's plane, and the origin on
+    /// the inner side of the six faces (edge of T, apex). The origin's side of T's own plane is not needed: on
+    /// wp's side the three faces through wp and T's plane bound the tetrahedron (T, wp), on the other side
+    /// those through wm bound (T, wm). This decides an origin that lies within rounding of a sliver T — GJK's
+    /// "touching" for nested needles, whose Minkowski difference is 1e-8 thick around a plane the origin is on.
+    static bool origin_in_bipyramid(const Vec3<S>& t0, const Vec3<S>& t1, const Vec3<S>& t2, const Vec3<S>& wp,
+                                    const Vec3<S>& wm) noexcept {
+        const Vec3<S>* t[3] = {&t0, &t1, &t2};
+        S scale = S(0);
+        for (const Vec3<S>* q : {t[0], t[1], t[2], &wp, &wm})
+            for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs((*q)[k]));
+        // The apexes' sides of T's plane: the origin test in coordinates shifted by the apex.
+        const Vec3<S>& p = *t[0];
+        const Vec3<S> e1 = minus(*t[1], p), e2 = minus(*t[2], p);
+        const Vec3<S> n = cross3(e1, e2);
+        const S sp = dot3(n, minus(wp, p)), sm = dot3(n, minus(wm, p));
+        if (!(sp * sm < S(0)) || !origin_side_certain(sp, n, e1, e2, minus(p, wp), scale) ||
+            !origin_side_certain(sm, n, e1, e2, minus(p, wm), scale))
+            return false;
+        for (const Vec3<S>* apex : {&wp, &wm})
+            for (int i = 0; i < 3; ++i) {
+                const Vec3<S>& pi = *t[i];
+                const Vec3<S> f1 = minus(*t[(i + 1) % 3], pi), f2 = minus(*apex, pi);
+                const Vec3<S> nf = cross3(f1, f2);
+                const S side_l = dot3(nf, minus(*t[(i + 2) % 3], pi));
+                const S side_o = -dot3(nf, pi);
+                if (!(side_o * side_l > S(0)) || !origin_side_certain(side_o, nf, f1, f2, pi, scale)) return false;
+            }
+        return true;
+    }
+
     /// Witness-point weights of a final triangle simplex `s` (size 3) whose closest point is `v`, recomputed where
     /// the triangle is a sliver (smallest angle below 30°). Ericson's weights are ratios of products taken at
     /// one vertex, whose cancellation on a needle (two support points ~1e-8 apart, the third ~0.2 away) slid
@@ -742,6 +774,81 @@ CDKIT_COLD_PATH CertifiedExit<typename A::Scalar> certify_exit(const A& a, const
     c.size2 = size2;
     c.lower = lower;
     return c;
+}
+
+/// GJK's touching exit (|v| within the touching tolerance of zero, no margins): the origin may lie deep inside D
+/// with the final simplex through it — nested needles, whose Minkowski difference is 1e-8 thick around the plane or
+/// the axis the origin is on (the hard-case count's nested and near-contact needle pairs ended "touching", in long
+/// double too). A bipyramid of points of D around the origin proves the overlap
+/// (`SimplexSolver::origin_in_bipyramid`): on a triangle, D's support points along ±n (n its normal) as apexes;
+/// on a segment p–q — or a triangle whose edge nearest the origin carries it — p and q as apexes over the triangle
+/// of D's support points along three directions 120° apart around the segment. Out of line: rare.
+template <bool use_cores, SupportMapped A, SupportMapped B>
+CDKIT_COLD_PATH bool touching_simplex_proves_overlap(const A& a, const B& b, Transform<typename A::Scalar> rel,
+                                                     const GjkSimplex<typename A::Scalar>& s) noexcept {
+    using S = typename A::Scalar;
+    auto support = [&](const Vec3<S>& d) { return minkowski_support<use_cores>(a, b, rel, d).w; };
+    // Decided in the wider type (the points are exact there): across a needle 1e-8 thick and 0.1 long the side
+    // products' rounding in double (ε times the cube of the length) exceeds them where thickness/length < 6e-8.
+    using W = wider_t<S>;
+    auto in_bipyramid = [](const Vec3<S>& t0, const Vec3<S>& t1, const Vec3<S>& t2, const Vec3<S>& wp,
+                           const Vec3<S>& wm) {
+        return SimplexSolver<W>::origin_in_bipyramid(t0.template cast<W>(), t1.template cast<W>(),
+                                                     t2.template cast<W>(), wp.template cast<W>(),
+                                                     wm.template cast<W>());
+    };
+    // Around segment p–q: three support points whose triangle the segment pierces.
+    auto around_segment = [&](const Vec3<S>& p, const Vec3<S>& q) {
+        const Vec3<S> axis = minus(q, p);
+        int k = 0;  // the coordinate axis least aligned with the segment
+        for (int i = 1; i < 3; ++i) k = std::abs(axis[i]) < std::abs(axis[k]) ? i : k;
+        const Vec3<S> u = cross3(axis, Vec3<S>(Vec3<S>::Unit(k)));
+        const Vec3<S> w = cross3(axis, u);
+        const S nu = std::sqrt(norm2(u)), nw = std::sqrt(norm2(w));
+        if (!(nu > S(0) && nw > S(0)) || !all_finite(u) || !all_finite(w)) return false;
+        const S c = S(-0.5), sn = S(0.86602540378443864676);  // cos, sin 120°
+        const Vec3<S> uu = u / nu, ww = w / nw;
+        const Vec3<S> e0 = support(uu);
+        const Vec3<S> e1 = support(Vec3<S>(c * uu + sn * ww)), e2 = support(Vec3<S>(c * uu - sn * ww));
+        if (!all_finite(e0) || !all_finite(e1) || !all_finite(e2)) return false;
+        return in_bipyramid(e0, e1, e2, p, q);
+    };
+    if (s.size == 2) return around_segment(s.v[0].w, s.v[1].w);
+    if (s.size != 3) return false;
+    const Vec3<S>& p0 = s.v[0].w;
+    const Vec3<S> ab = minus(s.v[1].w, p0), ac = minus(s.v[2].w, p0);
+    const S ab2 = norm2(ab), ac2 = norm2(ac), bc2 = norm2(minus(s.v[2].w, s.v[1].w));
+    S edges2 = S(0);
+    const Vec3<S> n = SimplexSolver<S>::stable_normal(s.v[1].w, s.v[2].w, ab, ac, ab2, ac2, bc2, edges2);
+    if (norm2(n) > S(0) && all_finite(n)) {
+        const Vec3<S> wp = support(n), wm = support(neg(n));
+        if (all_finite(wp) && all_finite(wm) && in_bipyramid(s.v[0].w, s.v[1].w, s.v[2].w, wp, wm)) return true;
+    }
+    // The origin on (within rounding of) an edge: that edge as the segment.
+    int best = 0;
+    S best_d = std::numeric_limits<S>::infinity();
+    for (int e = 0; e < 3; ++e) {
+        typename SimplexSolver<S>::Sel sel;
+        SimplexSolver<S>::segment(s, e, (e + 1) % 3, sel);
+        const S d = norm2(sel.v);
+        if (d < best_d) { best_d = d; best = e; }
+    }
+    return around_segment(s.v[std::size_t(best)].w, s.v[std::size_t((best + 1) % 3)].w);
+}
+
+/// A touching result (no margins) whose final simplex proves the overlap (`touching_simplex_proves_overlap`)
+/// becomes intersecting, reported as every proven overlap is: distance 0, no witness points.
+template <SupportMapped A, SupportMapped B>
+inline void prove_touching_overlap(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
+                                   GjkResult<typename A::Scalar>& r) noexcept {
+    using S = typename A::Scalar;
+    if (r.status != GjkStatus::touching || margin_of(a) + margin_of(b) > S(0)) return;
+    if (!touching_simplex_proves_overlap<true>(a, b, rel, r.simplex)) return;
+    r.status = GjkStatus::intersecting;
+    r.distance = S(0);
+    r.point_a.setZero();
+    r.point_b.setZero();
+    r.normal.setZero();
 }
 
 /// The GJK loop on D in A's frame. `early_exit_margin` ≥ 0, the shapes' summed margins, enables the boolean
@@ -1594,6 +1701,7 @@ inline void gjk_intersect_cold(const A& a, const Transform<typename A::Scalar>& 
     GjkVertex<S> none;
     none.w.setConstant(std::numeric_limits<S>::quiet_NaN());
     gjk_finish(a, pose_a, b, settings, r, status, v, std::sqrt(size2), S(0), none, true);
+    if (r.status == GjkStatus::touching) prove_touching_overlap(a, b, Transform<S>(rel), r);
 }
 
 /// A shape seen in the wider type of `refine_near_contact`: the directions are rounded to the shape's own type,
@@ -1743,6 +1851,7 @@ inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typen
                                   lower, boolean && cache ? settings.warm_exit_quality : S(0), &sep,
                                   retry_cached_direction);
     gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
+    if (r.status == GjkStatus::touching) prove_touching_overlap(a, b, rel, r);
     if constexpr (refines_near_contact<S>) {
         if (!boolean && near_contact_needs_refinement<A, B>(
                             settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2])))
@@ -1776,8 +1885,9 @@ template <SupportMapped A, SupportMapped B>
 /// double sub-simplex step can misplace v), the query goes on with the steps in a wider type
 /// (`detail::certify_separation`) and, if that decides nothing, answers `touching`: conservative for collision
 /// detection, and only pairs within the rounding of contact get there. `intersecting` is answered with four
-/// points of A − B around the origin, a point of one shape strictly inside the other, or overlapping inner
-/// balls / margins.
+/// points of A − B around the origin, a point of one shape strictly inside the other, overlapping inner
+/// balls / margins, or — where the loop ended touching on a triangle or segment through the origin (nested
+/// needles) — five support points of A − B around it (`detail::touching_simplex_proves_overlap`).
 /// Const, noexcept, thread-safe; `cache` as for gjk_distance.
 template <SupportMapped A, SupportMapped B>
     requires std::same_as<typename A::Scalar, typename B::Scalar>
