@@ -213,27 +213,23 @@ int main(int argc, char** argv) {
         ClosestFeatureCache<double> cc;
         auto reset_features = [&] { cc.valid = false; cc.gjk.size = 0; };
         ccd_t ccd = bench::make_ccd();
+        // A GJK result's answers into the row's outcome (distance rows keep the distance too).
+        auto keep = [](Outcome& o, std::size_t f, const GjkResult<double>& r, bool with_distance) {
+            o.hit[f] = r.colliding();
+            if (with_distance) o.distance[f] = r.distance;
+            o.iterations += r.iterations;
+        };
         Method cold_distance{"cold GJK distance", true, noop, [&](std::size_t f, Outcome& o) {
-                                 auto r = gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb);
-                                 o.hit[f] = r.colliding();
-                                 o.distance[f] = r.distance;
-                                 o.iterations += r.iterations;
+                                 keep(o, f, gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb), true);
                              }};
         Method cold_boolean{"cold GJK boolean", false, noop, [&](std::size_t f, Outcome& o) {
-                                auto r = gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb);
-                                o.hit[f] = r.colliding();
-                                o.iterations += r.iterations;
+                                keep(o, f, gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb), false);
                             }};
         Method warm_distance{"warm GJK distance", true, reset_gjk, [&](std::size_t f, Outcome& o) {
-                                 auto r = gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb, &gc);
-                                 o.hit[f] = r.colliding();
-                                 o.distance[f] = r.distance;
-                                 o.iterations += r.iterations;
+                                 keep(o, f, gjk_distance(a, s.frames[f].pa, b, s.frames[f].pb, &gc), true);
                              }};
         Method warm_boolean{"warm GJK boolean", false, reset_gjk, [&](std::size_t f, Outcome& o) {
-                                auto r = gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &gc);
-                                o.hit[f] = r.colliding();
-                                o.iterations += r.iterations;
+                                keep(o, f, gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &gc), false);
                             }};
         Method plane{"separating plane", false, reset_plane, [&](std::size_t f, Outcome& o) {
                          auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, sc);
