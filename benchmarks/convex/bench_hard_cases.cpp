@@ -20,15 +20,15 @@ int main(int argc, char** argv) {
     std::printf("Hard convex cases (issue 5): %ld seeded cases (seed %lu), %zu class pairs, degenerate shapes, size "
                 "ratios to 1e6, touching / near / nested / coincident placements; reference long-double GJK\n",
                 cases, seed, per_pair.size());
-    std::printf("%-10s %8s %8s %9s | %9s %6s %7s %7s %6s | %8s %8s | %6s %6s %6s\n", "pair", "cases", "decisive",
+    std::printf("%-10s %8s %8s %9s | %9s %6s %7s %7s %6s | %8s %8s | %6s %6s %6s %6s\n", "pair", "cases", "decisive",
                 "colliding", "nonfinite", "status", "wrongB", "wrongD", "depth", "dist.chk", "dist.out", "EPA",
-                "maxit", "degen");
+                "maxit", "degen", "loose");
     for (std::size_t p = 0; p < per_pair.size(); ++p) {
         const Counts& c = per_pair[p];
-        std::printf("%-10s %8ld %8ld %9ld | %9ld %6ld %7ld %7ld %6ld | %8ld %8ld | %6ld %6ld %6ld\n", pair_names[p],
+        std::printf("%-10s %8ld %8ld %9ld | %9ld %6ld %7ld %7ld %6ld | %8ld %8ld | %6ld %6ld %6ld %6ld\n", pair_names[p],
                     c.cases, c.decisive, c.colliding, c.nonfinite, c.bad_status, c.wrong_boolean,
                     c.wrong_distance_status, c.bad_depth, c.distance_checked, c.distance_outliers, c.epa_runs,
-                    c.epa_status[3], c.epa_status[4]);
+                    c.epa_status[3], c.epa_status[4], [&] { long n = 0; for (long x : c.epa_loose) n += x; return n; }());
         all.add(c);
     }
     std::printf("%s", all.first_failures.c_str());
@@ -37,6 +37,19 @@ int main(int argc, char** argv) {
     std::printf(" (%ld fell back to a random pose: no long-double normal to place along)\n", all.placed_random);
     std::printf("EPA statuses: separated %ld, touching %ld, intersecting %ld, max_iterations %ld, degenerate %ld\n",
                 all.epa_status[0], all.epa_status[1], all.epa_status[2], all.epa_status[3], all.epa_status[4]);
+    std::printf("EPA separated or touching where h(n) > 1e-9 size, by placement:");
+    for (int k = 0; k < placements; ++k) std::printf(" %s %ld", placement_names[k], all.epa_wrong_status[std::size_t(k)]);
+    std::printf("\nEPA bracket (depth - depth_lower) / depth > 1e-3, by placement:");
+    for (int k = 0; k < placements; ++k) std::printf(" %s %ld", placement_names[k], all.epa_loose[std::size_t(k)]);
+    std::printf("\nEPA bracket (depth - depth_lower) / depth, %ld overlaps with h(n) > 1e-9 size (h(n): D's support "
+                "along the normal, long double); %ld shallower, %ld of them off h(n) by > 1e-12 size:\n",
+                all.epa_checked, all.epa_shallow, all.epa_shallow_off);
+    const char* const status_names[5] = {"separated", "touching", "intersecting", "max_iterations", "degenerate"};
+    for (std::size_t k = 0; k < all.epa_gap.size(); ++k) {
+        const auto& g = all.epa_gap[k];
+        std::printf("  %-14s <= 1e-9 %7ld, <= 1e-6 %7ld, <= 1e-3 %7ld, > 1e-3 %7ld; depth off h(n): %ld\n",
+                    status_names[k], g[0], g[1], g[2], g[3], g[4]);
+    }
     std::printf("hard cases: %ld cases, %ld decisive, failures %ld (non-finite %ld, bad status %ld, wrong boolean %ld, "
                 "wrong distance status %ld, bad depth %ld); distances off the certified interval by > 1e-9: %ld of "
                 "%ld; slowest case %.0f us; %.1f s\n",

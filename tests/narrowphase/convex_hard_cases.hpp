@@ -15,13 +15,16 @@
 // Failures: a non-finite value in a result that reports it (distance, normal, points, depth), a status a query
 // may not give on finite shapes (max_iterations, degenerate), a boolean or a distance status that contradicts
 // long-double GJK where that is decisive (intersecting, or separated by more than 1e-9 of the size), a negative
-// depth or a depth's normal that is not unit. Counted, not failures: separation distances off the certified
-// interval by more than 1e-9 relative, EPA's statuses (max_iterations and degenerate carry a finite best
-// estimate), the slowest case (a hang would never end: every query has an iteration cap).
+// depth or a depth's normal that is not unit, a penetration() answering separated or touching where D reaches
+// beyond 1e-9 of the size along its normal (h(n), long double). Counted, not failures: separation distances off
+// the certified interval by more than 1e-9 relative, EPA's statuses (max_iterations and degenerate carry a finite
+// best estimate), the width of its bracket [depth_lower, depth] and depths off h(n), the slowest case (a hang
+// would never end: every query has an iteration cap).
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/epa.hpp>
 
+#include "convex_case_file.hpp"
 #include "convex_reference.hpp"
 #include "near_contact_pose.hpp"
 
@@ -48,12 +51,22 @@ struct Counts {
     long nonfinite = 0, bad_status = 0, wrong_boolean = 0, wrong_distance_status = 0, bad_depth = 0;
     long distance_checked = 0, distance_outliers = 0, epa_runs = 0;
     std::array<long, 5> epa_status{};
+    // EPA against the reference: a decisive overlap reported separated or touching, per placement; and the depth
+    // against h(n), D's support value along the reported normal in long double (an upper bound on the true
+    // depth, which a converged EPA approaches from below): relative gap ≤ 1e-9, ≤ 1e-6, ≤ 1e-3, > 1e-3, and
+    // depths above h(n) by more than 1e-9 relative (overestimates); per EPA status.
+    std::array<long, placements> epa_wrong_status{};
+    std::array<std::array<long, 5>, 5> epa_gap{};
+    long epa_checked = 0, epa_shallow = 0, epa_shallow_off = 0;
+    std::array<long, placements> epa_loose{};  ///< gap > 1e-3, per placement
     std::array<long, placements> by_placement{};
     double slowest_us = 0;
     std::string first_failures;  ///< one line for each of the first dozen failures
     int described = 0;
     [[nodiscard]] long failures() const {
-        return nonfinite + bad_status + wrong_boolean + wrong_distance_status + bad_depth;
+        long wrong_epa = 0;
+        for (long n : epa_wrong_status) wrong_epa += n;
+        return nonfinite + bad_status + wrong_boolean + wrong_distance_status + bad_depth + wrong_epa;
     }
     void add(const Counts& c) {
         cases += c.cases, decisive += c.decisive, colliding += c.colliding, placed_random += c.placed_random;
@@ -61,7 +74,14 @@ struct Counts {
         wrong_distance_status += c.wrong_distance_status, bad_depth += c.bad_depth;
         distance_checked += c.distance_checked, distance_outliers += c.distance_outliers, epa_runs += c.epa_runs;
         for (std::size_t k = 0; k < epa_status.size(); ++k) epa_status[k] += c.epa_status[k];
-        for (std::size_t k = 0; k < by_placement.size(); ++k) by_placement[k] += c.by_placement[k];
+        for (std::size_t k = 0; k < epa_gap.size(); ++k)
+            for (std::size_t j = 0; j < epa_gap[k].size(); ++j) epa_gap[k][j] += c.epa_gap[k][j];
+        epa_checked += c.epa_checked, epa_shallow += c.epa_shallow, epa_shallow_off += c.epa_shallow_off;
+        for (std::size_t k = 0; k < by_placement.size(); ++k) {
+            by_placement[k] += c.by_placement[k];
+            epa_wrong_status[k] += c.epa_wrong_status[k];
+            epa_loose[k] += c.epa_loose[k];
+        }
         slowest_us = std::max(slowest_us, c.slowest_us);
         if (described < 12) first_failures += c.first_failures, described += c.described;
     }
@@ -253,6 +273,25 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
                                 p.point_a.allFinite() && p.point_b.allFinite();
         c.nonfinite += !ok_numbers;
         c.bad_depth += !(p.depth >= 0) || (p.depth > 0 && !(std::abs(p.normal.norm() - 1) <= 1e-9));
+        if (ref_overlap) {
+            // h(n): D's support value along the reported normal, in long double — the translation along n that
+            // separates is at most h(n), and the true depth is the least h over all directions.
+            const LD h = -test::supporting_plane_gap(al, pal, bl, pbl, p.normal.template cast<LD>());
+            const LD deep = LD(1e-9 * size);
+            if (p.status == GjkStatus::separated || p.status == GjkStatus::touching) {
+                c.epa_wrong_status[std::size_t(m)] += h > deep;
+            } else if (h > deep) {
+                ++c.epa_checked;
+                // The bracket [depth_lower, depth] EPA reports, and its depth against h(n) (it must be that value).
+                const LD gap = (LD(p.depth) - LD(p.depth_lower)) / LD(p.depth);
+                const bool off = std::abs(h - LD(p.depth)) > LD(1e-9) * h + LD(1e-12 * size);
+                c.epa_loose[std::size_t(m)] += gap > LD(1e-3);
+                c.epa_gap[std::size_t(p.status)][std::size_t(off ? 4 : gap <= LD(1e-9) ? 0 : gap <= LD(1e-6) ? 1 : gap <= LD(1e-3) ? 2 : 3)]++;
+            } else {
+                ++c.epa_shallow;
+                c.epa_shallow_off += std::abs(h - LD(p.depth)) > LD(1e-12 * size);
+            }
+        }
     }
     c.slowest_us = std::max(c.slowest_us, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
 }

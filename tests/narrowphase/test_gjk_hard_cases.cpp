@@ -28,6 +28,8 @@ TEST_CASE("hard convex cases: no failure against long double", "[gjk][hard]") {
     CHECK(all.wrong_boolean == 0);
     CHECK(all.wrong_distance_status == 0);
     CHECK(all.bad_depth == 0);
+    for (const long n : all.epa_wrong_status) CHECK(n == 0);  // EPA "touching" where D reaches beyond 1e-9·size
+    CHECK(all.failures() == 0);
     // The corpus is hard where it should be: most cases are decisive, every placement occurs, EPA runs.
     CHECK(all.decisive > all.cases / 2);
     for (const long n : all.by_placement) CHECK(n > all.cases / 40);  // coincident: same-class pairs only, ~5 %

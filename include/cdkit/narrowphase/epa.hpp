@@ -36,7 +36,11 @@ template <class S> struct PenetrationResult {
     GjkStatus status = GjkStatus::degenerate;
     int gjk_iterations = 0, epa_iterations = 0;
     /// Penetration depth ≥ 0: the shortest translation of B that separates the shapes has this length.
-    S depth = S(0);
+    /// EPA brackets it: `depth` is D's support value along `normal` (moving B by depth·normal separates the
+    /// shapes: an upper bound, the least one EPA met), `depth_lower` the distance of the polytope's nearest face
+    /// (inside D: a lower bound, in exact arithmetic). Converged (intersecting) they agree within
+    /// rel_tolerance; after max_iterations or degenerate the bracket says how far off the estimate can be.
+    S depth = S(0), depth_lower = S(0);
     /// Separation distance when the shapes are separated (then depth is 0).
     S distance = S(0);
     /// Unit direction (world frame) along which B must move by `depth` to separate from A (from A to B).
@@ -141,7 +145,8 @@ template <bool use_cores, SupportMapped A, SupportMapped B>
 inline GjkStatus epa_run(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
                          const GjkSimplex<typename A::Scalar>& start, const EpaSettings<typename A::Scalar>& settings,
                          typename A::Scalar size, EpaFace<typename A::Scalar>& best, EpaPolytope<typename A::Scalar>& P,
-                         int& iterations) noexcept {
+                         int& iterations, EpaFace<typename A::Scalar>& upper_face,
+                         typename A::Scalar& upper) noexcept {
     using S = typename A::Scalar;
     const S eps = std::numeric_limits<S>::epsilon();
     const S tiny = settings.gjk.touch_factor * eps * size;
@@ -155,8 +160,11 @@ inline GjkStatus epa_run(const A& a, const B& b, const Transform<typename A::Sca
         if (f.n.dot(P.vert[std::size_t(t[3])].w) > f.dist) {                     // orient outward
             epa_make_face(P, t[0], t[2], t[1], f);
         }
-        // The origin must be inside (or on) the start tetrahedron.
-        if (f.dist < -tiny) return GjkStatus::degenerate;
+        // The origin may lie outside the start tetrahedron (beyond tiny): GJK's "inside" test and a grown lower
+        // simplex carry rounding, and nested needles end GJK on a triangle through the origin. The loop below
+        // then pushes out the faces that have the origin beyond them first (the most negative distance is the
+        // nearest face) until the polytope holds it — the count found 12k such starts in 100k nested, touching
+        // and coincident cases, all answered "degenerate" before.
         P.face[std::size_t(P.nf++)] = f;
     }
     iterations = 0;
@@ -172,7 +180,16 @@ inline GjkStatus epa_run(const A& a, const B& b, const Transform<typename A::Sca
         GjkVertex<S> w = minkowski_support<use_cores>(a, b, rel, best.n);
         if (!w.w.allFinite()) return GjkStatus::degenerate;
         S wd = best.n.dot(w.w);
-        if (wd - best.dist <= settings.rel_tolerance * std::abs(best.dist) + tiny) return GjkStatus::intersecting;
+        // D's support value along a face normal bounds the depth from above: keep the least (the answer's
+        // normal), so an exit before convergence still reports a translation that separates.
+        if (wd < upper) {
+            upper = wd;
+            upper_face = best;
+        }
+        const bool outside = best.dist < -tiny;  // the origin lies beyond this face: not enclosed yet
+        if (outside && wd <= tiny) return GjkStatus::touching;  // and beyond D's supporting plane: no overlap
+        if (!outside && wd - best.dist <= settings.rel_tolerance * std::abs(best.dist) + tiny)
+            return GjkStatus::intersecting;
         if (P.nv >= P.max_vertices) return GjkStatus::max_iterations;
         // Horizon: directed edges of visible faces whose twin is not visible.
         std::array<std::array<int, 2>, EpaPolytope<S>::max_faces> edges;
@@ -203,7 +220,7 @@ inline GjkStatus epa_run(const A& a, const B& b, const Transform<typename A::Sca
             if (!epa_make_face(P, edges[std::size_t(m)][0], edges[std::size_t(m)][1], nw, fresh[std::size_t(m)]))
                 return GjkStatus::degenerate;
             // A new face nearer than the current best (beyond rounding) means the origin fell outside.
-            if (fresh[std::size_t(m)].dist < best.dist - tiny - settings.rel_tolerance * best.dist)
+            if (!outside && fresh[std::size_t(m)].dist < best.dist - tiny - settings.rel_tolerance * best.dist)
                 return GjkStatus::degenerate;
         }
         P.nv = nw + 1;
@@ -235,7 +252,7 @@ inline PenetrationResult<typename A::Scalar> epa_stage(const A& a, const B& b, c
         // Zero-volume overlap of the cores: depth is the margins alone (0 without margins).
         if (margin > S(0)) {
             r.status = GjkStatus::intersecting;
-            r.depth = margin;
+            r.depth = r.depth_lower = margin;
             r.normal = pose_a.R * n_local;
             r.point_a = pose_a * Vec3<S>(pa_core + ma * n_local);
             r.point_b = pose_a * Vec3<S>(pb_core - mb * n_local);
@@ -263,21 +280,30 @@ inline PenetrationResult<typename A::Scalar> epa_stage(const A& a, const B& b, c
         return finish_flat(n, s.v[0].a, s.v[0].b);
     }
     EpaPolytope<S> P;
-    EpaFace<S> best{};  // dead until epa_run finds a face
-    GjkStatus es = epa_run<use_cores>(a, b, rel, s, settings, size, best, P, r.epa_iterations);
+    EpaFace<S> best{}, face{};  // dead until epa_run finds a face
+    S upper = std::numeric_limits<S>::infinity();
+    GjkStatus es = epa_run<use_cores>(a, b, rel, s, settings, size, best, P, r.epa_iterations, face, upper);
     if (es == GjkStatus::touching || !best.alive || !best.n.allFinite()) {
-        if (es == GjkStatus::touching) return finish_flat(Vec3<S>::UnitX(), s.v[0].a, s.v[0].b);
+        // Touching: a flat start (no face), or the origin found beyond D's supporting plane along a face's
+        // normal (that normal).
+        if (es == GjkStatus::touching)
+            return finish_flat(best.alive && best.n.allFinite() ? best.n : Vec3<S>::UnitX(), s.v[0].a, s.v[0].b);
         r.status = GjkStatus::degenerate;
         return r;
     }
-    S depth = std::max(best.dist, S(0));
-    // Barycentric coordinates of the origin's projection onto the best face give the witness points.
-    const auto& A0 = P.vert[std::size_t(best.v[0])];
-    const auto& B0 = P.vert[std::size_t(best.v[1])];
-    const auto& C0 = P.vert[std::size_t(best.v[2])];
-    Vec3<S> p = best.n * best.dist;
-    S area = best.n.dot((B0.w - A0.w).cross(C0.w - A0.w));
-    S la = best.n.dot((B0.w - p).cross(C0.w - p)), lb = best.n.dot((C0.w - p).cross(A0.w - p));
+    if (!face.alive || !(upper < std::numeric_limits<S>::infinity())) {  // no support query made it: best alone
+        face = best;
+        upper = best.dist;
+    }
+    const S depth = std::max(upper, S(0)), lower = std::clamp(best.dist, S(0), depth);
+    // Barycentric coordinates of the origin's projection onto the answer's face give the witness points; B's is
+    // moved on by the bracket's width, so that point_a − point_b = depth·normal.
+    const auto& A0 = P.vert[std::size_t(face.v[0])];
+    const auto& B0 = P.vert[std::size_t(face.v[1])];
+    const auto& C0 = P.vert[std::size_t(face.v[2])];
+    Vec3<S> p = face.n * face.dist;
+    S area = face.n.dot((B0.w - A0.w).cross(C0.w - A0.w));
+    S la = face.n.dot((B0.w - p).cross(C0.w - p)), lb = face.n.dot((C0.w - p).cross(A0.w - p));
     Vec3<S> pa = A0.a, pb = A0.b;
     if (area > S(0) && std::isfinite(la / area) && std::isfinite(lb / area)) {
         la /= area;
@@ -286,32 +312,34 @@ inline PenetrationResult<typename A::Scalar> epa_stage(const A& a, const B& b, c
         pa = la * A0.a + lb * B0.a + lc * C0.a;
         pb = la * A0.b + lb * B0.b + lc * C0.b;
     }
+    pb -= (depth - face.dist) * face.n;
     if (margin == S(0) && depth <= tiny) {
         r.status = GjkStatus::touching;
-        r.depth = S(0);
+        r.depth = r.depth_lower = S(0);
     } else {
         r.status = es;
         r.depth = depth + margin;
+        r.depth_lower = lower + margin;
     }
-    r.normal = pose_a.R * best.n;
-    r.point_a = pose_a * Vec3<S>(pa + ma * best.n);
-    r.point_b = pose_a * Vec3<S>(pb - mb * best.n);
+    r.normal = pose_a.R * face.n;
+    r.point_a = pose_a * Vec3<S>(pa + ma * face.n);
+    r.point_b = pose_a * Vec3<S>(pb - mb * face.n);
     return r;
 }
 
 }  // namespace detail
 
-/// Penetration query: separation distance when apart, otherwise penetration depth, normal and deepest
-/// points (world frame). Const, noexcept, thread-safe, never NaN: every outcome carries finite numbers.
+namespace detail {
+
+/// `penetration` without its long-double retry.
 template <SupportMapped A, SupportMapped B>
-    requires std::same_as<typename A::Scalar, typename B::Scalar>
-[[nodiscard]] inline PenetrationResult<typename A::Scalar> penetration(
+[[nodiscard]] inline PenetrationResult<typename A::Scalar> penetration_query(
     const A& a, const Transform<typename A::Scalar>& pose_a, const B& b, const Transform<typename A::Scalar>& pose_b,
-    const EpaSettings<typename A::Scalar>& settings = {}) noexcept {
+    const EpaSettings<typename A::Scalar>& settings) noexcept {
     using S = typename A::Scalar;
     PenetrationResult<S> r;
     const Transform<S> rel = pose_a.inverse() * pose_b;
-    const S ma = detail::margin_of(a), mb = detail::margin_of(b);
+    const S ma = margin_of(a), mb = margin_of(b);
     // 1. GJK on the cores.
     GjkSimplex<S> s;
     Vec3<S> v;
@@ -322,6 +350,15 @@ template <SupportMapped A, SupportMapped B>
                                           lower);
     const S eps = std::numeric_limits<S>::epsilon();
     S tiny = settings.gjk.touch_factor * eps * std::max(size, ma + mb);
+    if (st == GjkStatus::separated && ma + mb > S(0) && !(lower > tiny)) {
+        // Within the margins GJK stops once the overlap is decided, and |v| is then no core distance: a
+        // 10⁵-long capsule through a hull came out "cores 1.3e-8 apart" (depth = the radius alone, 1/17 of the
+        // true depth). Without a plane proving the cores apart, decide on the cores alone.
+        int more = 0;
+        st = detail::gjk_loop<true>(a, b, rel, settings.gjk, nullptr, false, S(0), s, v, size, more, lower);
+        r.gjk_iterations += more;
+        tiny = settings.gjk.touch_factor * eps * std::max(size, ma + mb);
+    }
     if (st != GjkStatus::intersecting && st != GjkStatus::touching && !(v.norm() <= tiny)) {
         // Cores apart: exact answer from the core distance and the margins.
         Vec3<S> pa = Vec3<S>::Zero(), pb = Vec3<S>::Zero();
@@ -337,7 +374,7 @@ template <SupportMapped A, SupportMapped B>
         r.point_b = pose_a * Vec3<S>(pb - mb * n);
         if (std::abs(dist) <= tiny) r.status = GjkStatus::touching;
         else if (dist > 0) { r.status = st == GjkStatus::separated ? GjkStatus::separated : st; r.distance = dist; }
-        else { r.status = GjkStatus::intersecting; r.depth = -dist; }
+        else { r.status = GjkStatus::intersecting; r.depth = r.depth_lower = -dist; }
         return r;
     }
     // 2. The cores touch or overlap. With margins, the depth is the cores' depth plus the margins
@@ -355,6 +392,64 @@ template <SupportMapped A, SupportMapped B>
         return r;
     }
     return detail::epa_stage<false>(a, b, rel, pose_a, s, settings, S(0), S(0), S(0), r);
+}
+
+/// A `degenerate` EPA in double, run again in `wider_t` on the shapes widened (`widened_shape`), in world axes
+/// with the origin at A's (as `refine_near_contact`), with S's touching tolerance. Degenerate exits are rounding
+/// (a new face nearer than the nearest one, a zero normal): shallow overlaps of shapes 1e5 apart in size, where
+/// D's polytope is a pancake around the origin. The wider answer replaces `r` when it converged or brackets the
+/// depth tighter. Out of line: rare.
+template <SupportMapped A, SupportMapped B>
+CDKIT_COLD_PATH void refine_penetration(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                        const Transform<typename A::Scalar>& pose_b,
+                                        const EpaSettings<typename A::Scalar>& settings,
+                                        PenetrationResult<typename A::Scalar>& r) noexcept {
+    using S = typename A::Scalar;
+    using W = wider_t<S>;
+    const auto wa = widened_shape(a);
+    const auto wb = widened_shape(b);
+    const Vec3<W> origin = pose_a.t.template cast<W>();
+    const Transform<W> pa(pose_a.R.template cast<W>(), Vec3<W>::Zero());
+    const Transform<W> pb(pose_b.R.template cast<W>(), Vec3<W>(pose_b.t.template cast<W>() - origin));
+    EpaSettings<W> ws;
+    ws.max_iterations = settings.max_iterations;
+    ws.rel_tolerance = W(settings.rel_tolerance);
+    ws.gjk.max_iterations = settings.gjk.max_iterations;
+    ws.gjk.rel_tolerance = W(settings.gjk.rel_tolerance);
+    ws.gjk.touch_factor =
+        W(settings.gjk.touch_factor) * W(std::numeric_limits<S>::epsilon()) / std::numeric_limits<W>::epsilon();
+    const PenetrationResult<W> w = penetration_query(wa, pa, wb, pb, ws);
+    const bool finite = std::isfinite(w.depth) && std::isfinite(w.depth_lower) && w.normal.allFinite() &&
+                        w.point_a.allFinite() && w.point_b.allFinite();
+    if (!finite || w.status == GjkStatus::separated || w.status == GjkStatus::touching) return;
+    const bool converged = w.status == GjkStatus::intersecting;
+    if (!converged && !(W(w.depth) - w.depth_lower < W(r.depth) - W(r.depth_lower))) return;
+    r.status = w.status;
+    r.depth = S(w.depth);
+    r.depth_lower = std::min(S(w.depth_lower), r.depth);
+    r.normal = w.normal.template cast<S>();
+    r.point_a = Vec3<W>(w.point_a + origin).template cast<S>();
+    r.point_b = Vec3<W>(w.point_b + origin).template cast<S>();
+    r.gjk_iterations += w.gjk_iterations;
+    r.epa_iterations += w.epa_iterations;
+}
+
+}  // namespace detail
+
+/// Penetration query: separation distance when apart, otherwise penetration depth, normal and deepest
+/// points (world frame). Const, noexcept, thread-safe, never NaN: every outcome carries finite numbers.
+/// In double, an EPA that degenerates (rounding) is run again in long double (`detail::refine_penetration`).
+template <SupportMapped A, SupportMapped B>
+    requires std::same_as<typename A::Scalar, typename B::Scalar>
+[[nodiscard]] inline PenetrationResult<typename A::Scalar> penetration(
+    const A& a, const Transform<typename A::Scalar>& pose_a, const B& b, const Transform<typename A::Scalar>& pose_b,
+    const EpaSettings<typename A::Scalar>& settings = {}) noexcept {
+    using S = typename A::Scalar;
+    PenetrationResult<S> r = detail::penetration_query(a, pose_a, b, pose_b, settings);
+    if constexpr (detail::refines_near_contact<S>) {
+        if (r.status == GjkStatus::degenerate) detail::refine_penetration(a, pose_a, b, pose_b, settings, r);
+    }
+    return r;
 }
 
 }  // namespace cdkit
