@@ -51,14 +51,15 @@ struct Counts {
     long nonfinite = 0, bad_status = 0, wrong_boolean = 0, wrong_distance_status = 0, bad_depth = 0;
     long distance_checked = 0, distance_outliers = 0, epa_runs = 0;
     std::array<long, 5> epa_status{};
-    // EPA against the reference: a decisive overlap reported separated or touching, per placement; and the depth
-    // against h(n), D's support value along the reported normal in long double (an upper bound on the true
-    // depth, which a converged EPA approaches from below): relative gap ≤ 1e-9, ≤ 1e-6, ≤ 1e-3, > 1e-3, and
-    // depths above h(n) by more than 1e-9 relative (overestimates); per EPA status.
+    // EPA against h(n), D's support value along the reported normal in long double (the true depth is the least
+    // h over all directions): separated or touching where h(n) > 1e-9·size, per placement (failures); per EPA
+    // status, the bracket (depth − depth_lower) / depth ≤ 1e-9, ≤ 1e-6, ≤ 1e-3, > 1e-3, and depths off h(n) by
+    // more than 1e-9·h + 1e-12·size (bin 4); shallower overlaps (h(n) ≤ 1e-9·size) and those off h(n) by more
+    // than 1e-12·size.
     std::array<long, placements> epa_wrong_status{};
     std::array<std::array<long, 5>, 5> epa_gap{};
     long epa_checked = 0, epa_shallow = 0, epa_shallow_off = 0;
-    std::array<long, placements> epa_loose{};  ///< gap > 1e-3, per placement
+    std::array<long, placements> epa_loose{};  ///< bracket > 1e-3 of the depth, per placement
     std::array<long, placements> by_placement{};
     double slowest_us = 0;
     std::string first_failures;  ///< one line for each of the first dozen failures
