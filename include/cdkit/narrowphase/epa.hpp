@@ -333,7 +333,7 @@ namespace detail {
 
 /// `penetration` without its long-double retry.
 template <SupportMapped A, SupportMapped B>
-[[nodiscard]] inline PenetrationResult<typename A::Scalar> penetration_query(
+[[nodiscard]] PenetrationResult<typename A::Scalar> penetration_query(
     const A& a, const Transform<typename A::Scalar>& pose_a, const B& b, const Transform<typename A::Scalar>& pose_b,
     const EpaSettings<typename A::Scalar>& settings) noexcept {
     using S = typename A::Scalar;
@@ -453,3 +453,10 @@ template <SupportMapped A, SupportMapped B>
 }
 
 }  // namespace cdkit
+
+// The built-in shapes' EPA queries in double are compiled into libcdkit (precompiled_queries.hpp).
+#ifndef CDKIT_NO_PRECOMPILED_QUERIES
+namespace cdkit {
+CDKIT_FOR_EACH_BUILTIN_PAIR(CDKIT_PENETRATION_QUERY_INSTANCE, extern)
+}  // namespace cdkit
+#endif

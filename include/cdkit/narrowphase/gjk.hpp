@@ -1761,11 +1761,11 @@ inline constexpr bool refines_near_contact =
     std::is_same_v<S, double> && std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits;
 
 template <SupportMapped A, SupportMapped B>
-inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
-                                               const Transform<typename A::Scalar>& pose_b,
-                                               GjkCache<typename A::Scalar>* cache,
-                                               const GjkSettings<typename A::Scalar>& settings, bool boolean,
-                                               bool retry_cached_direction = true) noexcept;
+GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                        const Transform<typename A::Scalar>& pose_b,
+                                        GjkCache<typename A::Scalar>* cache,
+                                        const GjkSettings<typename A::Scalar>& settings, bool boolean,
+                                        bool retry_cached_direction = true) noexcept;
 
 /// The near-contact refinement of a separated double distance query: GJK again in long double on the same
 /// shapes (`widened_shape`), in world axes (both shapes placed by their poses: the double loop's frame of A
@@ -1830,11 +1830,11 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
 }
 
 template <SupportMapped A, SupportMapped B>
-inline GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
-                                               const Transform<typename A::Scalar>& pose_b,
-                                               GjkCache<typename A::Scalar>* cache,
-                                               const GjkSettings<typename A::Scalar>& settings,
-                                               bool boolean, bool retry_cached_direction) noexcept {
+GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+                                        const Transform<typename A::Scalar>& pose_b,
+                                        GjkCache<typename A::Scalar>* cache,
+                                        const GjkSettings<typename A::Scalar>& settings,
+                                        bool boolean, bool retry_cached_direction) noexcept {
     using S = typename A::Scalar;
     GjkResult<S> r;
     if (boolean && !cache) {
@@ -1899,3 +1899,13 @@ template <SupportMapped A, SupportMapped B>
 }
 
 }  // namespace cdkit
+
+// The built-in shapes' GJK queries in double are compiled into libcdkit (precompiled_queries.hpp).
+#ifndef CDKIT_NO_PRECOMPILED_QUERIES
+#include <cdkit/narrowphase/convex_polyhedron.hpp>
+#include <cdkit/narrowphase/convex_shapes.hpp>
+#include <cdkit/narrowphase/precompiled_queries.hpp>
+namespace cdkit {
+CDKIT_FOR_EACH_BUILTIN_PAIR(CDKIT_GJK_QUERY_INSTANCE, extern)
+}  // namespace cdkit
+#endif
