@@ -408,17 +408,14 @@ CDKIT_COLD_PATH void refine_penetration(const A& a, const Transform<typename A::
     using W = wider_t<S>;
     const auto wa = widened_shape(a);
     const auto wb = widened_shape(b);
-    const Vec3<W> origin = pose_a.t.template cast<W>();
-    const Transform<W> pa(pose_a.R.template cast<W>(), Vec3<W>::Zero());
-    const Transform<W> pb(pose_b.R.template cast<W>(), Vec3<W>(pose_b.t.template cast<W>() - origin));
+    const WideningFrame<S> frame(pose_a, pose_b);
     EpaSettings<W> ws;
     ws.max_iterations = settings.max_iterations;
     ws.rel_tolerance = W(settings.rel_tolerance);
     ws.gjk.max_iterations = settings.gjk.max_iterations;
     ws.gjk.rel_tolerance = W(settings.gjk.rel_tolerance);
-    ws.gjk.touch_factor =
-        W(settings.gjk.touch_factor) * W(std::numeric_limits<S>::epsilon()) / std::numeric_limits<W>::epsilon();
-    const PenetrationResult<W> w = penetration_query(wa, pa, wb, pb, ws);
+    ws.gjk.touch_factor = widened_touch_factor(settings.gjk.touch_factor);
+    const PenetrationResult<W> w = penetration_query(wa, frame.pose_a, wb, frame.pose_b, ws);
     const bool finite = std::isfinite(w.depth) && std::isfinite(w.depth_lower) && w.normal.allFinite() &&
                         w.point_a.allFinite() && w.point_b.allFinite();
     if (!finite || w.status == GjkStatus::separated || w.status == GjkStatus::touching) return;
@@ -428,8 +425,8 @@ CDKIT_COLD_PATH void refine_penetration(const A& a, const Transform<typename A::
     r.depth = S(w.depth);
     r.depth_lower = std::min(S(w.depth_lower), r.depth);
     r.normal = w.normal.template cast<S>();
-    r.point_a = Vec3<W>(w.point_a + origin).template cast<S>();
-    r.point_b = Vec3<W>(w.point_b + origin).template cast<S>();
+    r.point_a = Vec3<W>(w.point_a + frame.origin).template cast<S>();
+    r.point_b = Vec3<W>(w.point_b + frame.origin).template cast<S>();
     r.gjk_iterations += w.gjk_iterations;
     r.epa_iterations += w.epa_iterations;
 }

@@ -1737,6 +1737,27 @@ template <SupportMapped A> [[nodiscard]] auto widened_shape(const A& s) noexcept
     }
 }
 
+/// The poses of a double query's retry in `wider_t` (`refine_near_contact`, EPA's `refine_penetration`): world axes
+/// with the origin moved to A's, so that B's offset t_b − t_a is exact or nearly in the wider type and the rounding
+/// stays ε_W of the relative coordinates, however far from the world's origin the shapes are.
+template <class S> struct WideningFrame {
+    using W = wider_t<S>;
+    Vec3<W> origin;          ///< A's position: add it to the retry's world points
+    Transform<W> pose_a;     ///< A's rotation, at the origin
+    Transform<W> pose_b;     ///< B's rotation, at t_b − t_a
+    WideningFrame(const Transform<S>& a, const Transform<S>& b)
+        : origin(a.t.template cast<W>()),
+          pose_a(a.R.template cast<W>(), Vec3<W>::Zero()),
+          pose_b(b.R.template cast<W>(), Vec3<W>(b.t.template cast<W>() - origin)) {}
+};
+
+/// S's touching tolerance factor (tf·ε_S) in units of the wider type's ε: a retry does not call a pair separated
+/// below the threshold the S query applies.
+template <class S> [[nodiscard]] inline wider_t<S> widened_touch_factor(S touch_factor) noexcept {
+    using W = wider_t<S>;
+    return W(touch_factor) * W(std::numeric_limits<S>::epsilon()) / std::numeric_limits<W>::epsilon();
+}
+
 /// True when a separated distance query in double should be refined in long double (`refine_near_contact`).
 /// `magnitude`: of the coordinates the loop worked with in A's frame, |t_rel|₁ + size (size = the largest |w|);
 /// they carry rounding of about ε·magnitude (the relative pose, B's points mapped into A's frame). Measured
@@ -1786,11 +1807,10 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     // support points widened.
     const auto wa = widened_shape(a);
     const auto wb = widened_shape(b);
-    // World axes with the origin moved to A's: B's offset t_b − t_a is exact or nearly in long double, so the
-    // rounding stays ε_W of the relative coordinates, as far from the world's origin as the shapes may be.
-    const Vec3<W> origin = pose_a.t.template cast<W>();
-    const Transform<W> pa(pose_a.R.template cast<W>(), Vec3<W>::Zero());
-    const Transform<W> pb(pose_b.R.template cast<W>(), Vec3<W>(pose_b.t.template cast<W>() - origin));
+    const WideningFrame<S> frame(pose_a, pose_b);
+    const Vec3<W>& origin = frame.origin;
+    const Transform<W>& pa = frame.pose_a;
+    const Transform<W>& pb = frame.pose_b;
     const Transformed<decltype(wa)> ta{wa, pa};
     const Transformed<decltype(wb)> tb{wb, pb};
     const Transform<W> world;  // identity: B "in A's frame" is B in these world axes
@@ -1802,10 +1822,7 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     GjkSettings<W> ws;
     ws.max_iterations = settings.max_iterations;
     ws.rel_tolerance = W(settings.rel_tolerance);
-    // The same touching tolerance as the double query's (256ε·size in S's ε): a pair it called separated is not
-    // answered separated below that threshold.
-    ws.touch_factor =
-        W(settings.touch_factor) * W(std::numeric_limits<S>::epsilon()) / std::numeric_limits<W>::epsilon();
+    ws.touch_factor = widened_touch_factor(settings.touch_factor);  // the double query's 256ε·size
     // The distance query in W (no refinement of its own: W is the widest type).
     const GjkResult<W> wr = gjk_query(ta, world, tb, world, &cache, ws, false);
     r.iterations += wr.iterations;
