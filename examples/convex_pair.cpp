@@ -21,20 +21,7 @@
 using V = cdkit::Vec3<double>;
 using T = cdkit::Transform<double>;
 
-namespace {
-
-const char* name(cdkit::GjkStatus s) {
-    switch (s) {
-        case cdkit::GjkStatus::separated: return "separated";
-        case cdkit::GjkStatus::touching: return "touching";
-        case cdkit::GjkStatus::intersecting: return "intersecting";
-        case cdkit::GjkStatus::max_iterations: return "max_iterations";
-        case cdkit::GjkStatus::degenerate: return "degenerate";
-    }
-    return "?";
-}
-
-}  // namespace
+using cdkit::to_string;
 
 int main(int argc, char** argv) try {
     const char* path = argc > 1 ? argv[1] : CDKIT_DEFAULT_MESH;
@@ -70,14 +57,14 @@ int main(int argc, char** argv) try {
         const cdkit::SeparatingPlaneResult<double> plane =
             cdkit::separating_plane_intersect(hull, pose_a, hull, pose_b, plane_cache);
         if (d.status == cdkit::GjkStatus::separated) last_apart = pose_b, last_normal = d.normal, last_distance = d.distance;
-        std::printf("%5d %8.3f %-12s %12.9f %12.9f %-6s %-6s", f, x, name(d.status), d.distance, c.distance,
+        std::printf("%5d %8.3f %-12s %12.9f %12.9f %-6s %-6s", f, x, to_string(d.status), d.distance, c.distance,
                     hit.colliding() ? "hit" : "apart", plane.colliding ? "hit" : "apart");
         // The methods agree: the same distance (to 1e-9 of the size) when apart, the same boolean otherwise.
         if (d.status == cdkit::GjkStatus::separated && std::abs(d.distance - c.distance) > 1e-9) ++disagreements;
         if (hit.colliding() != d.colliding() || plane.colliding != hit.colliding()) ++disagreements;
         if (hit.colliding()) {
             const cdkit::PenetrationResult<double> p = cdkit::penetration(hull, pose_a, hull, pose_b);
-            std::printf(" %-12s [%.6f, %.6f] (%.3f %.3f %.3f)", name(p.status), p.depth_lower, p.depth, p.normal.x(),
+            std::printf(" %-12s [%.6f, %.6f] (%.3f %.3f %.3f)", to_string(p.status), p.depth_lower, p.depth, p.normal.x(),
                         p.normal.y(), p.normal.z());
             // Moving B by depth along the normal separates the pair (up to the tolerance): depth is an upper bound.
             const T moved(pose_b.R, V(pose_b.t + (p.depth + 1e-9) * p.normal));
@@ -94,14 +81,14 @@ int main(int argc, char** argv) try {
     const cdkit::GjkResult<double> ht = cdkit::gjk_intersect(hull, pose_a, hull, touch);
     const cdkit::PenetrationResult<double> pt = cdkit::penetration(hull, pose_a, hull, touch);
     std::printf("moved into contact: distance query %s (%.3g), boolean %s, penetration %s (depth %.3g)\n",
-                name(dt.status), dt.distance, name(ht.status), name(pt.status), pt.depth);
+                to_string(dt.status), dt.distance, to_string(ht.status), to_string(pt.status), pt.depth);
     if (!(dt.distance <= 1e-12) || !(pt.depth <= 1e-12)) ++disagreements;
 
     // A capsule (radius 0.1, half length 0.4, axis z) beside the hull: the distance is exact on the core segment.
     const cdkit::Capsule<double> capsule(0.1, 0.4);
     const T pose_c(Eigen::Matrix3d::Identity(), V(0.9, 0.0, 0.0));
     const cdkit::GjkResult<double> dc = cdkit::gjk_distance(hull, pose_a, capsule, pose_c);
-    std::printf("capsule: %s, distance %.9f, closest points (%.4f %.4f %.4f) and (%.4f %.4f %.4f)\n", name(dc.status),
+    std::printf("capsule: %s, distance %.9f, closest points (%.4f %.4f %.4f) and (%.4f %.4f %.4f)\n", to_string(dc.status),
                 dc.distance, dc.point_a.x(), dc.point_a.y(), dc.point_a.z(), dc.point_b.x(), dc.point_b.y(),
                 dc.point_b.z());
     if (dc.status == cdkit::GjkStatus::separated && std::abs((dc.point_a - dc.point_b).norm() - dc.distance) > 1e-9)

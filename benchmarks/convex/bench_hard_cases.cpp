@@ -44,11 +44,10 @@ int main(int argc, char** argv) {
     std::printf("\nEPA bracket (depth - depth_lower) / depth, %ld overlaps with h(n) > 1e-9 size (h(n): D's support "
                 "along the normal, long double); %ld shallower, %ld of them off h(n) by > 1e-12 size:\n",
                 all.epa_checked, all.epa_shallow, all.epa_shallow_off);
-    const char* const status_names[5] = {"separated", "touching", "intersecting", "max_iterations", "degenerate"};
     for (std::size_t k = 0; k < all.epa_gap.size(); ++k) {
         const auto& g = all.epa_gap[k];
         std::printf("  %-14s <= 1e-9 %7ld, <= 1e-6 %7ld, <= 1e-3 %7ld, > 1e-3 %7ld; depth off h(n): %ld\n",
-                    status_names[k], g[0], g[1], g[2], g[3], g[4]);
+                    cdkit::to_string(cdkit::GjkStatus(k)), g[0], g[1], g[2], g[3], g[4]);
     }
     std::printf("hard cases: %ld cases, %ld decisive, failures %ld (non-finite %ld, bad status %ld, wrong boolean %ld, "
                 "wrong distance status %ld, bad depth %ld); distances off the certified interval by > 1e-9: %ld of "

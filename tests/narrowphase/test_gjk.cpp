@@ -43,6 +43,17 @@ std::vector<Vec3<double>> box_corners(const Vec3<double>& h) {
 
 }  // namespace
 
+TEST_CASE("GJK statuses have distinct names", "[gjk]") {
+    using cdkit::GjkStatus;
+    const std::string names[] = {to_string(GjkStatus::separated), to_string(GjkStatus::touching),
+                                 to_string(GjkStatus::intersecting), to_string(GjkStatus::max_iterations),
+                                 to_string(GjkStatus::degenerate)};
+    CHECK(names[0] == "separated");
+    CHECK(names[4] == "degenerate");
+    for (int i = 0; i < 5; ++i)
+        for (int j = i + 1; j < 5; ++j) CHECK(names[i] != names[j]);
+}
+
 TEST_CASE("convex shapes reject bad input", "[gjk][shapes]") {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     CHECK_THROWS_AS(Sphere<double>(-1.0), Error);

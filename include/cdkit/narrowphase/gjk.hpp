@@ -74,6 +74,18 @@ enum class GjkStatus {
     degenerate,      ///< numerical trouble (non-finite support point); the result holds the best bound found
 };
 
+/// Name of a status, for messages and reports ("separated", "touching", ...).
+[[nodiscard]] inline const char* to_string(GjkStatus s) noexcept {
+    switch (s) {
+        case GjkStatus::separated: return "separated";
+        case GjkStatus::touching: return "touching";
+        case GjkStatus::intersecting: return "intersecting";
+        case GjkStatus::max_iterations: return "max_iterations";
+        case GjkStatus::degenerate: return "degenerate";
+    }
+    return "?";
+}
+
 /// Tuning of a GJK query. Tolerances are relative; GJK scales them with the size of the shapes.
 template <class S = double> struct GjkSettings {
     /// Iteration cap (then `max_iterations`, with the best bound found). GJK converges linearly on curved shapes,
