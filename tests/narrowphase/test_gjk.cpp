@@ -120,6 +120,64 @@ TEST_CASE("convex hull contains its points; hill climbing equals brute force", "
     }
 }
 
+TEST_CASE("hinted support from every vertex equals brute force, ties and odd degrees included", "[gjk][convex_hull]") {
+    // The hint's scan goes over each vertex's neighbour ring two at a time (SSE2, double); an odd ring repeats
+    // its last neighbour. Every vertex as the hint, directions that tie (axis and diagonal directions on a box
+    // and an octahedron-like hull) and random ones, and a coherent sequence: the answer is a maximiser each time.
+    std::mt19937_64 rng(2026);
+    std::normal_distribution<double> g;
+    std::vector<std::vector<Vec3<double>>> clouds;
+    clouds.push_back({{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {-1, 1, 1}, {1, 1, 1}});
+    clouds.push_back({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0.5, 0.5, 0.6}});
+    clouds.push_back(random_points(rng, 60, 1.0));
+    clouds.push_back(random_points(rng, 400, 1.0));
+    std::vector<Vec3<double>> dirs;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y)
+            for (int z = -1; z <= 1; ++z)
+                if (x || y || z) dirs.emplace_back(x, y, z);
+    for (int i = 0; i < 40; ++i) dirs.emplace_back(g(rng), g(rng), g(rng));
+    for (const auto& pts : clouds) {
+        ConvexPolyhedron<double> hull(pts);
+        const auto n = std::uint32_t(hull.vertices().size());
+        int wrong = 0;
+        for (const auto& d : dirs) {
+            double best = -1e300;
+            for (const auto& v : hull.vertices()) best = std::max(best, d.dot(v));
+            for (std::uint32_t h = 0; h < n; ++h) {
+                std::uint32_t hint = h;
+                wrong += d.dot(hull.support(d, hint)) != best;
+                wrong += hint >= n || d.dot(hull.vertices()[hint]) != best;
+            }
+        }
+        // Coherent: a direction turning by 0.5° per step, the hint chained.
+        const Mat3<double> turn = Eigen::AngleAxisd(0.5 * 3.14159265358979 / 180, Vec3<double>(0.3, 0.8, -0.5).normalized())
+                                      .toRotationMatrix();
+        Vec3<double> d(0.2, -0.7, 0.4);
+        std::uint32_t hint = std::uint32_t(-1);
+        for (int i = 0; i < 2000; ++i) {
+            d = turn * d;
+            double best = -1e300;
+            for (const auto& v : hull.vertices()) best = std::max(best, d.dot(v));
+            wrong += d.dot(hull.support(d, hint)) != best;
+        }
+        CHECK(wrong == 0);
+    }
+    // The scalar scan (no rings) in long double gives the same maxima.
+    std::vector<Vec3<long double>> pl;
+    for (const auto& p : clouds[3]) pl.push_back(p.cast<long double>());
+    ConvexPolyhedron<long double> hl(pl);
+    int wrong = 0;
+    for (const auto& dd : dirs) {
+        const Vec3<long double> d = dd.cast<long double>();
+        long double best = -1e300L;
+        for (const auto& v : hl.vertices()) best = std::max(best, d.dot(v));
+        std::uint32_t hint = 0;
+        wrong += d.dot(hl.support(d, hint)) != best;
+    }
+    CHECK(wrong == 0);
+}
+
 TEST_CASE("cylinder and cone support maps for tiny and huge directions", "[gjk][shapes]") {
     // planar_norm replaces std::hypot by sqrt(x² + y²) except where the squares under- or overflow.
     Cylinder<double> cyl(0.5, 0.4);

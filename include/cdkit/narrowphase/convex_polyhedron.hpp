@@ -30,8 +30,13 @@
 #include <limits>
 #include <map>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace cdkit {
 
@@ -78,6 +83,7 @@ public:
         detail::HullData h = detail::convex_hull(pd);
         vertices_.reserve(h.vertices.size());
         for (const auto& v : h.vertices) vertices_.push_back(v.template cast<S>());
+        vertex_count_ = std::uint32_t(vertices_.size());
         triangles_ = std::move(h.triangles);
         Vec3<double> c = Vec3<double>::Zero();
         for (const auto& v : h.vertices) c += v;
@@ -97,6 +103,7 @@ public:
             neighbours_.insert(neighbours_.end(), a.begin(), a.end());
             offsets_.push_back(std::uint32_t(neighbours_.size()));
         }
+        build_rings();
         build_topology(h.faces);
         build_balls();
         build_cones();
@@ -124,22 +131,24 @@ public:
     /// (`build_start_table`), which keeps a poor hint (directions that jump, as in GJK's first iterations)
     /// from costing a long climb. A linear function has no non-global local maximum on the vertex graph, so
     /// any start gives the same maximum.
-    [[nodiscard]] std::uint32_t support_index(const Vec3<S>& d, std::uint32_t hint) const noexcept {
-        std::uint32_t best = std::uint32_t(-1);
-        S best_dot = S(0);
-        if (hint < vertices_.size()) {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE std::uint32_t support_index(const Vec3<S>& d,
+                                                                  std::uint32_t hint) const noexcept {
+        if (hint < vertex_count_) {
             // A coherent caller's hint is usually the answer: one scan of its neighbours proves it (a local
             // maximum is the global one) without the table lookup, whose division and load would sit on the
-            // query's critical path.
-            best = hint;
-            best_dot = d.dot(vertices_[hint]);
-            for (std::uint32_t e = offsets_[hint]; e < offsets_[hint + 1]; ++e) {
-                const S v = d.dot(vertices_[neighbours_[e]]);
-                if (v > best_dot) { best_dot = v; best = neighbours_[e]; }
-            }
+            // query's critical path. This part is inlined into the caller (GJK's loop): most queries end here.
+            std::uint32_t best = hint;
+            S best_dot = d.dot(vertices_[hint]);
+            scan_neighbours(d, hint, best, best_dot);
             // (Not when the products overflowed to −∞ around the hint: a tie there proves nothing.)
             if (best == hint && best_dot >= -std::numeric_limits<S>::max()) return hint;
+            return search_from(d, best, best_dot);
         }
+        return search_from(d, std::uint32_t(-1), S(0));
+    }
+    /// The rest of support_index(d, hint) after the hint's scan (best = −1: no hint), out of line.
+    [[nodiscard]] CDKIT_NOINLINE std::uint32_t search_from(const Vec3<S>& d, std::uint32_t best,
+                                                          S best_dot) const noexcept {
         if (vertices_.size() <= brute_force_limit) return brute_force_index(d);
         const std::uint32_t start = table_start(d);
         if (start != std::uint32_t(-1)) {
@@ -503,11 +512,68 @@ private:
     [[nodiscard]] std::uint32_t climb(const Vec3<S>& d, std::uint32_t best, S best_dot) const noexcept {
         for (;;) {
             const std::uint32_t from = best;
-            for (std::uint32_t e = offsets_[from]; e < offsets_[from + 1]; ++e) {
-                const S v = d.dot(vertices_[neighbours_[e]]);
-                if (v > best_dot) { best_dot = v; best = neighbours_[e]; }
-            }
+            scan_neighbours(d, from, best, best_dot);
             if (best == from) return best;
+        }
+    }
+
+#if defined(__SSE2__)
+    static constexpr bool has_rings = std::is_same_v<S, double>;
+#else
+    static constexpr bool has_rings = false;
+#endif
+    /// The scan of vertex v's neighbours: for each neighbour n in adjacency order, d·n > best_dot makes n the
+    /// best (best, best_dot updated). With rings (build_rings) two neighbours per SSE2 operation, the scalar
+    /// updates only for a pair that beats the current best; the products are summed in the order of Eigen's
+    /// 3-vector dot product, (d₀x₀ + d₁x₁) + d₂x₂, so the outcome is the scalar loop's, bit for bit.
+    CDKIT_ALWAYS_INLINE void scan_neighbours(const Vec3<S>& d, std::uint32_t v, std::uint32_t& best,
+                                             S& best_dot) const noexcept {
+#if defined(__SSE2__)
+        if constexpr (has_rings) {
+            const double* const base = rings_.data() + 6 * std::size_t(ring_begin_[v]);
+            const std::uint32_t pairs = ring_begin_[v + 1] - ring_begin_[v];
+            const __m128d dx = _mm_set1_pd(d[0]), dy = _mm_set1_pd(d[1]), dz = _mm_set1_pd(d[2]);
+            __m128d bound = _mm_set1_pd(best_dot);
+            for (std::uint32_t i = 0; i < pairs; ++i) {
+                const double* p = base + 6 * std::size_t(i);
+                const __m128d t = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, _mm_loadu_pd(p)), _mm_mul_pd(dy, _mm_loadu_pd(p + 2))),
+                                             _mm_mul_pd(dz, _mm_loadu_pd(p + 4)));
+                if (_mm_movemask_pd(_mm_cmpgt_pd(t, bound)) == 0) continue;
+                alignas(16) double tt[2];
+                _mm_store_pd(tt, t);
+                const std::uint32_t e = offsets_[v] + 2 * i;
+                if (tt[0] > best_dot) { best_dot = tt[0]; best = neighbours_[e]; }
+                // (The second lane of an odd count's last pair repeats the first: never greater.)
+                if (tt[1] > best_dot) { best_dot = tt[1]; best = neighbours_[e + 1]; }
+                bound = _mm_set1_pd(best_dot);
+            }
+            return;
+        }
+#endif
+        for (std::uint32_t e = offsets_[v]; e < offsets_[v + 1]; ++e) {
+            const S t = d.dot(vertices_[neighbours_[e]]);
+            if (t > best_dot) { best_dot = t; best = neighbours_[e]; }
+        }
+    }
+    /// Each vertex's neighbours' coordinates, two at a time as [x₀ x₁ y₀ y₁ z₀ z₁] (an odd count repeats the last
+    /// neighbour), for ring_proves: the hint scan then needs no index loads and does two neighbours per
+    /// operation. 24 bytes per adjacency entry (about 6× the vertices' own bytes).
+    void build_rings() {
+        if constexpr (has_rings) {
+            ring_begin_.assign(1, 0);
+            rings_.clear();
+            for (std::uint32_t v = 0; v + 1 < offsets_.size(); ++v) {
+                const std::uint32_t b = offsets_[v], n = offsets_[v + 1] - b;
+                for (std::uint32_t k = 0; k < n; k += 2) {
+                    const Vec3<S>& x0 = vertices_[neighbours_[b + k]];
+                    const Vec3<S>& x1 = vertices_[neighbours_[b + std::min(k + 1, n - 1)]];
+                    for (int c = 0; c < 3; ++c) {
+                        rings_.push_back(x0[c]);
+                        rings_.push_back(x1[c]);
+                    }
+                }
+                ring_begin_.push_back(std::uint32_t(rings_.size() / 6));
+            }
         }
     }
 
@@ -521,8 +587,11 @@ private:
         return best;
     }
     std::vector<Vec3<S>> vertices_;
+    std::uint32_t vertex_count_ = 0;  ///< vertices_.size(), kept for the inlined hint test
     std::vector<std::array<std::uint32_t, 3>> triangles_;
     std::vector<std::uint32_t> offsets_, neighbours_;
+    std::vector<double> rings_;             ///< see build_rings (empty without SSE2 or for S ≠ double)
+    std::vector<std::uint32_t> ring_begin_;  ///< vertex v's ring: pairs ring_begin_[v] .. ring_begin_[v + 1]
     std::array<std::uint32_t, 6> seeds_{};
     std::vector<std::uint32_t> start_table_;  ///< see build_start_table (empty for brute-force hulls)
     /// The tetrahedron joining the centre to a hull triangle (see build_cones).

@@ -885,8 +885,16 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     using S = typename A::Scalar;
     using Solver = SimplexSolver<S>;
     const S eps = std::numeric_limits<S>::epsilon();
-    v = Vec3<S>(Vec3<S>(a.center()) - place(rel, Vec3<S>(b.center())));
-    if (!(v.squaredNorm() > S(0)) || !v.allFinite()) v = Vec3<S>::UnitX();
+    // The start direction from the centres; a warm start replaces it with its rebuilt simplex's closest point
+    // (for the shapes the cache's points belong to the rebuild usually succeeds; centre_direction if not).
+    const bool rebuilds = cache && cache->size > 0 && cache->shape_a == static_cast<const void*>(&a) &&
+                          cache->shape_b == static_cast<const void*>(&b);
+    auto centre_direction = [&] {
+        v = Vec3<S>(Vec3<S>(a.center()) - place(rel, Vec3<S>(b.center())));
+        if (!(v.squaredNorm() > S(0)) || !v.allFinite()) v = Vec3<S>::UnitX();
+    };
+    if (rebuilds) v = Vec3<S>::UnitX();
+    else centre_direction();
     s.size = 0;
     // Locals, written out on return: as reference parameters they were reloaded after every store through
     // the simplex (possible aliasing), putting a sqrt/division latency on each iteration's critical path.
@@ -1021,6 +1029,8 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
             v = sel.v;
             vv = v.squaredNorm();
             if (!(vv > S(0))) { s.size = 0; vv = std::numeric_limits<S>::infinity(); v = Vec3<S>::UnitX(); }
+        } else if (rebuilds) {
+            centre_direction();
         }
     }
     int refinements = 0;
@@ -1032,7 +1042,6 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
         if (!all_finite(x.w)) { status = GjkStatus::degenerate; break; }
         size2 = std::max(size2, x.w.squaredNorm());
-        const S tiny2 = settings.touch_factor * settings.touch_factor * eps * eps * tol2();  // (256·ε·size)²
         if (boolean && separates(v, x, true)) {
             status = GjkStatus::separated;
             if (exit_support) *exit_support = x;
@@ -1085,6 +1094,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         if (sel.inside) { v.setZero(); status = GjkStatus::intersecting; break; }
         const S nvv = sel.v.squaredNorm();
         if (!(nvv == nvv)) { s.size = old_size; status = GjkStatus::degenerate; break; }
+        const S tiny2 = settings.touch_factor * settings.touch_factor * eps * eps * tol2();  // (256·ε·size)²
         if (nvv <= tiny2) { Solver::apply(s, sel); v = sel.v; status = GjkStatus::touching; break; }
         if (old_size > 0 && !(nvv < vv)) {
             note_exit(x);
@@ -1183,8 +1193,9 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
     }
     S core = v.norm();
     Vec3<S> n = core > S(0) ? Vec3<S>(-v / core) : Vec3<S>::Zero();  // from A towards B
-    pa += margin_of(a) * n;
-    pb -= margin_of(b) * n;
+    // (Margin-free shapes skip the products by zero, which IEEE arithmetic cannot fold away.)
+    if constexpr (HasMargin<A>) pa += margin_of(a) * n;
+    if constexpr (HasMargin<B>) pb -= margin_of(b) * n;
     S dist = core - margin;
     r.point_a = place(pose_a, pa);
     r.point_b = place(pose_a, pb);
