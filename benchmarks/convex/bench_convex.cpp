@@ -91,6 +91,7 @@ struct Row {
     Stats cd_bool, cd_dist, cd_epa, ccd_gjk, ccd_mpr, ccd_pen;
     Stats fcl_indep_bool, fcl_indep_dist, fcl_indep_pen, fcl_ccd_bool, fcl_ccd_dist, fcl_ccd_pen;
     long cd_bool_balls = 0;  ///< configurations the boolean decided by the bounding-ball pre-test (0 iterations)
+    Stats cd_epa_bracket{};  ///< EPA's own bracket (depth − depth_lower)/depth as its "error" (cd_epa's times)
 };
 
 /// One family: `make(rng)` returns {shape<double>, shape<long double>} pairs; scale = size of the shapes.
@@ -168,6 +169,8 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                     rp = penetration(a, pa, b, pb);
                     row.cd_epa.add(ns_,
                                rp.epa_iterations, std::abs(rp.depth - ref_val) / std::max(ref_val, 1e-12));
+                    row.cd_epa_bracket.add(ns_, rp.epa_iterations,
+                                           (rp.depth - rp.depth_lower) / std::max(rp.depth, 1e-300));
                 }
                 ccd_real_t depth = 0;
                 ccd_vec3_t dir, pos;
@@ -255,7 +258,7 @@ int main(int argc, char** argv) {
     std::printf("P3 convex pairs: %d configurations per cell, each timed as a batch of >= %d calls and >= 20 us "
                 "of thread CPU time (clock cost %.0f ns subtracted); times in ns per call\n",
                 configs, reps, bench::thread_clock_overhead_ns());
-    std::printf("%-10s %-11s | %-26s | %-26s | %-26s | %-17s | %-17s | %-17s | bool ratio ccdGJK/cd, ccdMPR/cd; pen ratio | balls\n",
+    std::printf("%-10s %-11s | %-26s | %-26s | %-26s | %-17s | %-17s | %-17s | bool ratio ccdGJK/cd, ccdMPR/cd; pen ratio | balls | EPA bracket\n",
                 "family", "class", "cd bool med/p99 it err", "cd dist med/p99 it relerr", "cd EPA med/p99 it relerr",
                 "ccd GJK med err", "ccd MPR med err", "ccd pen med relerr");
     for (auto& r : rows) {
@@ -268,15 +271,19 @@ int main(int argc, char** argv) {
             return std::string(buf);
         };
         double cb = r.cd_bool.pct(0.5);
-        std::printf("%-10s %-11s | %s | %s | %s | %17s | %17s | %17s | %5.2f %5.2f %5.2f | %3.0f%%\n", r.family.c_str(),
+        char bracket[32] = "-";
+        if (r.cd_epa_bracket.n) std::snprintf(bracket, sizeof bracket, "%.1e", r.cd_epa_bracket.err);
+        std::printf("%-10s %-11s | %s | %s | %s | %17s | %17s | %17s | %5.2f %5.2f %5.2f | %3.0f%% | %s\n", r.family.c_str(),
                     r.cls.c_str(), cell(r.cd_bool, true).c_str(), cell(r.cd_dist, true).c_str(),
                     cell(r.cd_epa, true).c_str(), cell(r.ccd_gjk, false).c_str(), cell(r.ccd_mpr, false).c_str(),
                     cell(r.ccd_pen, false).c_str(), r.ccd_gjk.pct(0.5) / cb, r.ccd_mpr.pct(0.5) / cb,
                     r.cd_epa.n ? r.ccd_pen.pct(0.5) / r.cd_epa.pct(0.5) : 0.0,
-                    100.0 * double(r.cd_bool_balls) / double(std::max(r.cd_bool.n, 1L)));
+                    100.0 * double(r.cd_bool_balls) / double(std::max(r.cd_bool.n, 1L)), bracket);
     }
     std::printf("(err for booleans: max over cells of a wrong answer where |reference| > 1e-6·scale, 1 = some wrong; "
-                "balls: share of the cell's configurations the cdkit boolean decided by its bounding-ball pre-test)\n");
+                "balls: share of the cell's configurations the cdkit boolean decided by its bounding-ball pre-test;\n"
+                " EPA bracket: the largest (depth - depth_lower)/depth EPA itself reported in the cell, the width of its\n"
+                " certified interval, which needs no reference)\n");
     // FCL 0.7 on the same configurations (see peer_fcl.hpp for the code each column runs); ratios are FCL's
     // median over cdkit's median of the same query (boolean: cd GJK boolean; distance: cd GJK distance;
     // penetration: cd EPA).
@@ -317,6 +324,7 @@ int main(int argc, char** argv) {
                 put("cdkit GJK boolean", r.cd_bool);
                 put("cdkit GJK distance", r.cd_dist);
                 put("cdkit EPA", r.cd_epa);
+                put("cdkit EPA bracket", r.cd_epa_bracket);  // max_error: the largest (depth - depth_lower)/depth
                 put("libccd GJK boolean", r.ccd_gjk);
                 put("libccd MPR boolean", r.ccd_mpr);
                 put("libccd GJK+EPA penetration", r.ccd_pen);
