@@ -127,7 +127,8 @@ TEST_CASE("hinted support from every vertex equals brute force, ties and odd deg
     std::mt19937_64 rng(2026);
     std::normal_distribution<double> g;
     std::vector<std::vector<Vec3<double>>> clouds;
-    clouds.push_back({{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {-1, 1, 1}, {1, 1, 1}});
+    clouds.push_back(
+        {{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {-1, 1, 1}, {1, 1, 1}});
     clouds.push_back({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0.5, 0.5, 0.6}});
     clouds.push_back(random_points(rng, 60, 1.0));
     clouds.push_back(random_points(rng, 400, 1.0));
@@ -151,8 +152,8 @@ TEST_CASE("hinted support from every vertex equals brute force, ties and odd deg
             }
         }
         // Coherent: a direction turning by 0.5° per step, the hint chained.
-        const Mat3<double> turn = Eigen::AngleAxisd(0.5 * 3.14159265358979 / 180, Vec3<double>(0.3, 0.8, -0.5).normalized())
-                                      .toRotationMatrix();
+        const Vec3<double> axis = Vec3<double>(0.3, 0.8, -0.5).normalized();
+        const Mat3<double> turn = Eigen::AngleAxisd(0.5 * 3.14159265358979 / 180, axis).toRotationMatrix();
         Vec3<double> d(0.2, -0.7, 0.4);
         std::uint32_t hint = std::uint32_t(-1);
         for (int i = 0; i < 2000; ++i) {

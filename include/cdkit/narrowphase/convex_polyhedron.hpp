@@ -536,8 +536,8 @@ private:
             __m128d bound = _mm_set1_pd(best_dot);
             for (std::uint32_t i = 0; i < pairs; ++i) {
                 const double* p = base + 6 * std::size_t(i);
-                const __m128d t = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, _mm_loadu_pd(p)), _mm_mul_pd(dy, _mm_loadu_pd(p + 2))),
-                                             _mm_mul_pd(dz, _mm_loadu_pd(p + 4)));
+                const __m128d xy = _mm_add_pd(_mm_mul_pd(dx, _mm_loadu_pd(p)), _mm_mul_pd(dy, _mm_loadu_pd(p + 2)));
+                const __m128d t = _mm_add_pd(xy, _mm_mul_pd(dz, _mm_loadu_pd(p + 4)));
                 if (_mm_movemask_pd(_mm_cmpgt_pd(t, bound)) == 0) continue;
                 alignas(16) double tt[2];
                 _mm_store_pd(tt, t);
@@ -555,9 +555,9 @@ private:
             if (t > best_dot) { best_dot = t; best = neighbours_[e]; }
         }
     }
-    /// Each vertex's neighbours' coordinates, two at a time as [x₀ x₁ y₀ y₁ z₀ z₁] (an odd count repeats the last
-    /// neighbour), for ring_proves: the hint scan then needs no index loads and does two neighbours per
-    /// operation. 24 bytes per adjacency entry (about 6× the vertices' own bytes).
+    /// Each vertex's neighbours' coordinates, two at a time as [x₀ x₁ y₀ y₁ z₀ z₁] (an odd count repeats the
+    /// last neighbour), for scan_neighbours: the hint scan and the climb need no index loads and do two
+    /// neighbours per operation. 24 bytes per adjacency entry (about 6× the vertices' own bytes).
     void build_rings() {
         if constexpr (has_rings) {
             ring_begin_.assign(1, 0);
