@@ -985,8 +985,6 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     typename Solver::Sel sel;
     if (cache && cache->size > 0) {
         const int n = std::min(cache->size, 4);
-        const bool same = cache->shape_a == static_cast<const void*>(&a) &&
-                          cache->shape_b == static_cast<const void*>(&b);
         for (int i = 0; i < n; ++i) {
             GjkVertex<S> x;
             if (boolean && i == 0 && retry_cached_direction) {
@@ -1001,7 +999,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
                     if (exit_support) *exit_support = x;
                     return done(GjkStatus::separated);
                 }
-            } else if (same) {
+            } else if (rebuilds) {
                 // The stored support points under the new poses: points of D, no support query.
                 x.a = cache->point_a[std::size_t(i)];
                 x.b_local = cache->point_b[std::size_t(i)];
