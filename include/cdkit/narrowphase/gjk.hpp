@@ -1171,8 +1171,8 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
             r.normal = rotate(pose_a.R, n);  // a separating direction, A towards B
             if (sep.w.allFinite()) {
                 // The supporting points of that plane: A's extreme towards B and B's towards A.
-                r.point_a = place(pose_a, Vec3<S>(sep.a + margin_of(a) * n));
-                r.point_b = place(pose_a, Vec3<S>(sep.b - margin_of(b) * n));
+                r.point_a = place(pose_a, pushed_out(a, sep.a, n));
+                r.point_b = place(pose_a, pushed_out(b, sep.b, Vec3<S>(-n)));
             }
         }
         return;
@@ -1191,12 +1191,9 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
     }
     S core = v.norm();
     Vec3<S> n = core > S(0) ? Vec3<S>(-v / core) : Vec3<S>::Zero();  // from A towards B
-    // (Margin-free shapes skip the products by zero, which IEEE arithmetic cannot fold away.)
-    if constexpr (HasMargin<A>) pa += margin_of(a) * n;
-    if constexpr (HasMargin<B>) pb -= margin_of(b) * n;
     S dist = core - margin;
-    r.point_a = place(pose_a, pa);
-    r.point_b = place(pose_a, pb);
+    r.point_a = place(pose_a, pushed_out(a, pa, n));
+    r.point_b = place(pose_a, pushed_out(b, pb, Vec3<S>(-n)));
     r.normal = rotate(pose_a.R, n);
     if (st == GjkStatus::max_iterations || st == GjkStatus::degenerate) {
         r.status = st;

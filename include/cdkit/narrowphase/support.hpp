@@ -268,6 +268,13 @@ template <SupportMapped T> [[nodiscard]] inline typename T::Scalar margin_of(con
     if constexpr (HasMargin<T>) return s.margin();
     else { (void)s; return typename T::Scalar(0); }
 }
+/// A point of the shape's core moved out by its margin along the unit direction n: p + margin·n; p itself for
+/// a margin-free shape (no product by a zero margin, which IEEE arithmetic cannot fold away).
+template <SupportMapped T> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<typename T::Scalar> pushed_out(
+    const T& s, const Vec3<typename T::Scalar>& p, const Vec3<typename T::Scalar>& n) noexcept {
+    if constexpr (HasMargin<T>) return Vec3<typename T::Scalar>(p + s.margin() * n);
+    else { (void)s; (void)n; return p; }
+}
 }  // namespace detail
 
 /// A shape placed by a rigid pose: support in the outer frame is pose·s(Rᵀd). Non-owning view: the
