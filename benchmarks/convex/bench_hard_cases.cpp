@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
         all.add(c);
     }
     std::printf("%s", all.first_failures.c_str());
+    std::printf("%s", all.first_outliers.c_str());
     std::printf("placements:");
     for (int k = 0; k < placements; ++k) std::printf(" %s %ld", placement_names[k], all.by_placement[std::size_t(k)]);
     std::printf(" (%ld fell back to a random pose: no long-double normal to place along)\n", all.placed_random);

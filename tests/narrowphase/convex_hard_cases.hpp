@@ -64,6 +64,8 @@ struct Counts {
     double slowest_us = 0;
     std::string first_failures;  ///< one line for each of the first dozen failures
     int described = 0;
+    std::string first_outliers;  ///< one line for each of the first distances off the certified interval
+    int outliers_described = 0;
     [[nodiscard]] long failures() const {
         long wrong_epa = 0;
         for (long n : epa_wrong_status) wrong_epa += n;
@@ -85,6 +87,8 @@ struct Counts {
         }
         slowest_us = std::max(slowest_us, c.slowest_us);
         if (described < 12) first_failures += c.first_failures, described += c.described;
+        if (outliers_described < 12)
+            first_outliers += c.first_outliers, outliers_described += c.outliers_described;
     }
 };
 
@@ -264,7 +268,18 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
         ++c.distance_checked;
         const auto [lower, upper] = test::certified_interval(al, pal, bl, pbl, ref, dist.normal);
         const LD d = LD(dist.distance);
-        c.distance_outliers += d < lower * (1 - LD(1e-9)) || d > upper * (1 + LD(1e-9));
+        const bool outlier = d < lower * (1 - LD(1e-9)) || d > upper * (1 + LD(1e-9));
+        c.distance_outliers += outlier;
+        if (outlier && c.outliers_described < 12) {
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "  off the interval: %s placement, size %.3g, |t_a| %.3g: distance %.17g it %d; certified "
+                          "[%.17Lg, %.17Lg] (relative %.2Lg); ",
+                          placement_names[m], size, pa.t.norm(), dist.distance, dist.iterations, lower, upper,
+                          (d < lower ? lower - d : d - upper) / upper);
+            c.first_outliers += line + describe(a) + " / " + describe(b) + "\n";
+            ++c.outliers_described;
+        }
     }
     if (ref_overlap || cold.colliding()) {
         ++c.epa_runs;

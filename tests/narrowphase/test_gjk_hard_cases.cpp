@@ -156,6 +156,16 @@ TEST_CASE("a sliver final triangle does not put a separated margin pair in conta
     check_separated_case<Capsule, Box>("capsule_box_margin_sliver.txt", 1e-16);
 }
 
+TEST_CASE("a loop stopped short of its tolerance on a needle pair is refined", "[gjk][hard]") {
+    // The count's 16 distances off the certified interval (seed 1, f3ca325) were all such pairs (shallow
+    // placements of box, cylinder and cone needles): a segment 0.165 long beside a cylinder 1.2e-7 long and 3e-13
+    // wide, 8.2e-6 apart. Their Minkowski difference is a thin sliver; the support points at its two ends differ
+    // by less than v·w's rounding (ε·size², not ε·|v|·size), so double GJK stopped without progress with a gap
+    // 50 times its tolerance and answered 4.1e-14 (5e-9 relative) too far. A separated exit whose gap exceeds
+    // 4× the tolerance is now refined in long double. 8e-15 is 1e-9 of the distance.
+    check_separated_case<Box, Cylinder>("box_cylinder_needle_floor.txt", 8e-15);
+}
+
 TEST_CASE("a malformed convex case file is named in the error", "[gjk][hard]") {
     CHECK_THROWS_WITH(cdkit::test::read_convex_case("/nonexistent/case.txt"), Catch::Contains("/nonexistent/case.txt"));
 }

@@ -11,7 +11,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(git -C "$here" rev-parse --show-toplevel)
 tmp=$(mktemp -d)
 git -C "$root" archive "$rev" include src/convex | tar -x -C "$tmp"
-F="-std=c++20 -O3 -DNDEBUG -isystem /usr/include/eigen3"
+F="-std=c++20 -O3 -DNDEBUG -DCDKIT_NO_PRECOMPILED_QUERIES -isystem /usr/include/eigen3"
 g++ $F -I"$tmp/include" -Dcdkit=cdkit_old -DVARIANT=old -c "$here/ab_variant.cpp" -o "$tmp/v_old.o"
 g++ $F -I"$tmp/include" -Dcdkit=cdkit_old -c "$tmp/src/convex/convex_hull.cpp" -o "$tmp/h_old.o"
 g++ $F -I"$root/include" -Dcdkit=cdkit_new -DVARIANT=new -c "$here/ab_variant.cpp" -o "$tmp/v_new.o"

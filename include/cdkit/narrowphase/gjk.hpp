@@ -136,10 +136,12 @@ template <class S = double> struct GjkSettings {
     /// a separated answer closer than 32ε·m / rel_tolerance (2ε·m / rel_tolerance for two polytope cores,
     /// `HasPolytopeCore`), m = |t_rel|₁ + the largest |a − b| seen, is computed again by GJK in long double from its
     /// final simplex (`detail::refine_near_contact`), where the double loop's rounding exceeds its tolerance (docs/
-    /// convex.md, "Near contact"). A refinement costs microseconds with x87 long double (more where long double is
-    /// software quad); a small rel_tolerance makes more queries refine. Only where long double is wider than
-    /// double. Rotations should be orthonormal to working precision either way: the loop's frame takes R_aᵀ for
-    /// R_a's inverse.
+    /// convex.md, "Near contact"); so is one whose loop stopped with a gap |v| − v·w/|v| above 4× the tolerance
+    /// (a repeated point, no progress or the rounding floor: needle pairs, whose Minkowski difference is so thin
+    /// that v·w's rounding, ε·size², hides which end is nearer). A refinement costs microseconds with x87 long
+    /// double (more where long double is software quad); a small rel_tolerance makes more queries refine. Only
+    /// where long double is wider than double. Rotations should be orthonormal to working precision either way:
+    /// the loop's frame takes R_aᵀ for R_a's inverse.
     bool refine_near_contact = true;
 };
 
@@ -647,6 +649,15 @@ template <class S> inline bool refine_step(const GjkSimplex<S>& s, int n, Simple
     return true;
 }
 
+/// The tolerance term of the gap test below: ε_rel·|v|², or ε_rel·|v|·(|v| − margin) beyond a margin.
+template <class S> [[nodiscard]] inline S gap_tolerance(S vv, S margin, S rel_tolerance) noexcept {
+    if (margin > S(0)) {
+        const S core = std::sqrt(vv);
+        if (core > margin) return rel_tolerance * core * (core - margin);
+    }
+    return rel_tolerance * vv;
+}
+
 /// GJK's convergence test on |v| (v the point of the simplex nearest the origin, w the support point along
 /// −v, vw = v·w, vv = |v|², size2 = the squared size of D's support points): the gap |v| − v·w/|v| between
 /// the upper and lower bound is within ε_rel·|v|² + 16·ε·|v|·size, compared in squares (no sqrt per
@@ -657,12 +668,7 @@ template <class S> inline bool refine_step(const GjkSimplex<S>& s, int n, Simple
 template <class S>
 [[nodiscard]] inline bool gap_converged(S vv, S vw, S margin, S size2, S rel_tolerance) noexcept {
     constexpr S eps = std::numeric_limits<S>::epsilon();
-    S rel_term = rel_tolerance * vv;
-    if (margin > S(0)) {
-        const S core = std::sqrt(vv);
-        if (core > margin) rel_term = rel_tolerance * core * (core - margin);
-    }
-    const S excess = vv - vw - rel_term;
+    const S excess = vv - vw - gap_tolerance(vv, margin, rel_tolerance);
     return excess <= S(0) || excess * excess <= S(256) * eps * eps * vv * size2;
 }
 
@@ -881,7 +887,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
                           Vec3<typename A::Scalar>& v, typename A::Scalar& size_out, int& iterations,
                           typename A::Scalar& lower_out, typename A::Scalar exit_quality = 0,
                           GjkVertex<typename A::Scalar>* exit_support = nullptr,
-                          bool retry_cached_direction = true) noexcept {
+                          bool retry_cached_direction = true, bool* tolerance_met = nullptr) noexcept {
     using S = typename A::Scalar;
     using Solver = SimplexSolver<S>;
     const S eps = std::numeric_limits<S>::epsilon();
@@ -914,6 +920,12 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     bool best_saved = false;
     // v·w and |v|² at the loop's exits on |v| (gap test, repeated point, no progress): the plane bound there.
     S exit_vw = S(0), exit_vv = S(0);
+    // Whether a separated exit's gap |v|² − v·w, the bracket on the distance, is within 4× the tolerance:
+    // false where the loop stopped on the rounding floor (the gap test's second term), a repeated point or a
+    // step without progress with a wider bracket. gjk_query refines those in long double. (Brackets of 1–1.6×
+    // the tolerance are common on close polytope pairs, ~2 % of the coherent near-touching frames; refining
+    // them would cost microseconds for nothing the 1e-9 target needs.)
+    bool met = true;
     // Hill-climbing starts for polyhedra: each support query starts at the previous one's vertex (under
     // coherence last frame's, from the cache), instead of the hull's fixed seeds.
     std::uint32_t hints[2] = {cache ? cache->hint_a : std::uint32_t(-1), cache ? cache->hint_b : std::uint32_t(-1)};
@@ -927,6 +939,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         }
         lower_out = lower_bound;
         if (cache) { cache->hint_a = hints[0]; cache->hint_b = hints[1]; }
+        if (tolerance_met) *tolerance_met = met;
         return st;
     };
     iterations = 0;
@@ -1137,6 +1150,8 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         }
         const bool proven = (lower_bound > S(0) && lower_bound * lower_bound > thr2) ||
                             (exit_vw > S(0) && exit_vw * exit_vw > thr2 * exit_vv);
+        if (tolerance_met)
+            met = exit_vv - exit_vw <= S(4) * gap_tolerance(exit_vv, early_exit_margin, settings.rel_tolerance);
         if (!proven && v.squaredNorm() > thr2) {
             const CertifiedExit<S> c = certify_exit<use_cores>(a, b, rel, settings, early_exit_margin, s, v, size2,
                                                                lower_bound, hints[0], hints[1]);
@@ -1882,14 +1897,19 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
     S size, lower;
     GjkVertex<S> sep;
     sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
+    bool tolerance_met = true;
     GjkStatus st = gjk_loop<true>(a, b, rel, settings, cache, boolean, margin, r.simplex, v, size, r.iterations,
                                   lower, boolean && cache ? settings.warm_exit_quality : S(0), &sep,
-                                  retry_cached_direction);
+                                  retry_cached_direction, boolean ? nullptr : &tolerance_met);
     gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
     if (r.status == GjkStatus::touching) prove_touching_overlap(a, b, rel, r);
     if constexpr (refines_near_contact<S>) {
-        if (!boolean && near_contact_needs_refinement<A, B>(
-                            settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2])))
+        // Also where the loop stopped short of its tolerance (a repeated point, no progress, or the rounding
+        // floor of v·w, which is ε·size² where D is long and thin: a needle 1e4 times longer than its distance
+        // came out 5e-9 relative too far).
+        if (!boolean && (near_contact_needs_refinement<A, B>(
+                             settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2])) ||
+                         (!tolerance_met && settings.refine_near_contact && r.status == GjkStatus::separated)))
             refine_near_contact(a, pose_a, b, pose_b, settings, r);
     }
     return r;
