@@ -157,9 +157,9 @@ TEST_CASE("a sliver final triangle does not put a separated margin pair in conta
 }
 
 TEST_CASE("a loop stopped short of its tolerance on a needle pair is refined", "[gjk][hard]") {
-    // The count's 16 distances off the certified interval (seed 1, f3ca325) were all such pairs (shallow
-    // placements of box, cylinder and cone needles): a segment 0.165 long beside a cylinder 1.2e-7 long and 3e-13
-    // wide, 8.2e-6 apart. Their Minkowski difference is a thin sliver; the support points at its two ends differ
+    // The count's distances off the certified interval (seed 1, f3ca325: 16; the 12 it printed were shallow
+    // placements of box, cylinder and cone needles, all too far). The first: a segment 0.165 long beside a
+    // cylinder 1.2e-7 long and 3e-13 wide, 8.2e-6 apart. Their Minkowski difference is a thin sliver; the support points at its two ends differ
     // by less than v·w's rounding (ε·size², not ε·|v|·size), so double GJK stopped without progress with a gap
     // 50 times its tolerance and answered 4.1e-14 (5e-9 relative) too far. A separated exit whose gap exceeds
     // 4× the tolerance is now refined in long double. 8e-15 is 1e-9 of the distance.
