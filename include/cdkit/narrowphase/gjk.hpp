@@ -1798,15 +1798,18 @@ template <class S> [[nodiscard]] inline wider_t<S> widened_touch_factor(S touch_
 /// stops at its convergence floor: 1e-8 relative at a distance of 1e-7 between shapes 0.4 apart) and ~ε·magnitude/
 /// distance on two polytope cores (it ends on the closest simplex; only the final rounding): refine where 32 and 2
 /// times that exceed the tolerance. The distance, not the cores' |v|: a margin (capsule, sphere) leaves |v|'s
-/// absolute rounding on a distance that is much smaller.
+/// absolute rounding on a distance that is much smaller. Also refined: a loop that stopped short of its tolerance
+/// (`tolerance_met` false: gap above 4× the tolerance at a repeated point, no progress or the rounding floor of
+/// v·w, which is ε·size², not ε·magnitude, where D is long and thin: a needle pair came out 5e-9 relative too far).
 template <SupportMapped A, SupportMapped B>
 [[nodiscard]] inline bool near_contact_needs_refinement(const GjkSettings<typename A::Scalar>& settings,
                                                         const GjkResult<typename A::Scalar>& r,
-                                                        typename A::Scalar magnitude) noexcept {
+                                                        typename A::Scalar magnitude, bool tolerance_met) noexcept {
     using S = typename A::Scalar;
     constexpr S floor = HasPolytopeCore<A> && HasPolytopeCore<B> ? S(2) : S(32);
     return settings.refine_near_contact && r.status == GjkStatus::separated &&
-           floor * std::numeric_limits<S>::epsilon() * magnitude > settings.rel_tolerance * r.distance;
+           (!tolerance_met ||
+            floor * std::numeric_limits<S>::epsilon() * magnitude > settings.rel_tolerance * r.distance);
 }
 
 /// Whether queries in S have a near-contact refinement: double, where long double is wider (x87 or quad).
@@ -1904,12 +1907,9 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
     gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
     if (r.status == GjkStatus::touching) prove_touching_overlap(a, b, rel, r);
     if constexpr (refines_near_contact<S>) {
-        // Also where the loop stopped short of its tolerance (a repeated point, no progress, or the rounding
-        // floor of v·w, which is ε·size² where D is long and thin: a needle 1e4 times longer than its distance
-        // came out 5e-9 relative too far).
-        if (!boolean && (near_contact_needs_refinement<A, B>(
-                             settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2])) ||
-                         (!tolerance_met && settings.refine_near_contact && r.status == GjkStatus::separated)))
+        if (!boolean && near_contact_needs_refinement<A, B>(
+                            settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2]),
+                            tolerance_met))
             refine_near_contact(a, pose_a, b, pose_b, settings, r);
     }
     return r;
