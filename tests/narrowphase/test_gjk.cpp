@@ -616,6 +616,47 @@ TEST_CASE("GJK boolean early exit returns the extreme points of a separating pla
     CHECK(separated > test::scaled(500, 50) / 10);
 }
 
+TEST_CASE("GJK warm boolean's cached-direction exit: the cold answer, with a certified world-frame plane",
+          "[gjk][warm_start][boolean]") {
+    // A warm boolean first tests the cache's last separating direction in world axes (gjk_query's
+    // warm_direction_separates). Along coherent paths of a hull and a capsule (margins, on either side) and of
+    // two hulls, through separation and overlap: every answer is the cold one, and every exit there (iterations
+    // 0, separated) reports the extreme points of both shapes along its normal, B's beyond A's, and a distance
+    // that is a lower bound.
+    std::mt19937_64 rng(31);
+    const ConvexPolyhedron<double> hull(random_points(rng, 100, 0.5)), other(random_points(rng, 60, 0.4));
+    const Capsule<double> cap(0.1, 0.3);
+    int exits = 0, bad = 0, wrong = 0, frames = 0;
+    auto path = [&](const auto& a, const auto& b) {
+        GjkCache<double> cache;
+        const Mat3<double> spin_a = Eigen::AngleAxisd(0.02, Vec3<double>(1, 2, 3).normalized()).toRotationMatrix();
+        const Mat3<double> spin_b = Eigen::AngleAxisd(0.03, Vec3<double>(-2, 1, 1).normalized()).toRotationMatrix();
+        Transform<double> pa(test::random_rotation(rng), Vec3<double>(5, -3, 2));  // away from the origin
+        Transform<double> pb(test::random_rotation(rng), pa.t + Vec3<double>(1.6, 0.0, 0.0));
+        for (int f = 0; f < test::scaled(400, 80); ++f, ++frames) {
+            pa.R = spin_a * pa.R;
+            pb.R = spin_b * pb.R;
+            pb.t = pa.t + Vec3<double>(0.9 + 0.7 * std::cos(0.05 * f), 0.2 * std::sin(0.03 * f), 0.0);
+            const auto r = gjk_intersect(a, pa, b, pb, &cache);
+            wrong += r.colliding() != gjk_intersect(a, pa, b, pb).colliding();
+            if (r.status != GjkStatus::separated || r.iterations != 0) continue;
+            ++exits;
+            const Vec3<double> n = r.normal;  // A towards B
+            const double ha = n.dot(pa * Vec3<double>(a.support(pa.R.transpose() * n)));
+            const double hb = n.dot(pb * Vec3<double>(b.support(pb.R.transpose() * Vec3<double>(-n))));
+            if (std::abs(n.dot(r.point_a) - ha) > 1e-12 || std::abs(n.dot(r.point_b) - hb) > 1e-12) ++bad;
+            if (!(n.dot(r.point_b) > n.dot(r.point_a))) ++bad;
+            if (!(r.distance > 0 && r.distance <= gjk_distance(a, pa, b, pb).distance * (1 + 1e-12))) ++bad;
+        }
+    };
+    path(hull, cap);
+    path(cap, hull);
+    path(hull, other);
+    CHECK(wrong == 0);
+    CHECK(bad == 0);
+    CHECK(exits > frames / 4);
+}
+
 TEST_CASE("GJK cold boolean with and without momentum agrees with long double near contact", "[gjk][boolean]") {
     // The cold boolean path (world-frame first support pair, Nesterov momentum in the first iterations) must
     // give the long-double answer whatever the search directions: pairs of every shape kind are placed at
