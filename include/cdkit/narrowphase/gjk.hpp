@@ -1371,6 +1371,22 @@ CDKIT_NOINLINE bool loop_containment_decides(const A& a, const Transform<typenam
     return containment_decides(a, pose_a, b, pose_b, x, a_in_b, tf);
 }
 
+/// The boolean queries' plane test in squares: v·w/|v| > margin + tf·max(size, margin) (tf = touch_factor·ε,
+/// the threshold gjk_finish uses) with vv = |v|² and size2 = size², so that a failing test costs no sqrt (none at
+/// all without margins).
+template <class S>
+CDKIT_ALWAYS_INLINE bool plane_separates_squared(S vw, S vv, S size2, S margin, S tf) noexcept {
+    if (!(vw > S(0))) return false;
+    S thr2;
+    if (margin > S(0)) {
+        const S thr = margin + tf * std::max(std::sqrt(size2), margin);
+        thr2 = thr * thr;
+    } else {
+        thr2 = tf * tf * size2;
+    }
+    return vw * vw > thr2 * vv;
+}
+
 /// The candidate-axis test of the cold boolean query (`GjkSettings::candidate_axes`): the face normal of A towards
 /// B's first support point (`x.b`, A's frame), the one of B towards A's (`a_in_b`, B's frame) and, where both
 /// shapes name edges, the cross product of their edges nearest those points, each given the loop's plane test
@@ -1409,16 +1425,8 @@ CDKIT_ALWAYS_INLINE bool candidate_axes_decide(const A& a, const Transform<typen
         // |w| alone would let a gap at the level of that rounding pass as a plane.
         const S sz2 = std::max(std::max(std::max(size2, w2), norm2(pa)), std::max(norm2(pb_local), norm2(rel.t)));
         const S dw = dot3(d, w);
-        if (!(dw > S(0))) return false;
         const S dd = norm2(d);
-        S thr2;
-        if (margin > S(0)) {
-            const S thr = margin + tf * std::max(std::sqrt(sz2), margin);
-            thr2 = thr * thr;
-        } else {
-            thr2 = tf * tf * sz2;
-        }
-        if (!(dw * dw > thr2 * dd)) return false;
+        if (!plane_separates_squared(dw, dd, sz2, margin, tf)) return false;
         const S inv = S(1) / std::sqrt(dd);
         const Vec3<S> n = Vec3<S>(-d[0] * inv, -d[1] * inv, -d[2] * inv);  // A towards B, in A's frame
         r.iterations = 1 + pairs;
@@ -1458,22 +1466,6 @@ CDKIT_ALWAYS_INLINE bool candidate_axes_decide(const A& a, const Transform<typen
     (void)located_a;
     (void)located_b;
     return false;
-}
-
-/// The boolean queries' plane test in squares: v·w/|v| > margin + tf·max(size, margin) (tf = touch_factor·ε,
-/// the threshold gjk_finish uses) with vv = |v|² and size2 = size², so that a failing test costs no sqrt (none at
-/// all without margins).
-template <class S>
-CDKIT_ALWAYS_INLINE bool plane_separates_squared(S vw, S vv, S size2, S margin, S tf) noexcept {
-    if (!(vw > S(0))) return false;
-    S thr2;
-    if (margin > S(0)) {
-        const S thr = margin + tf * std::max(std::sqrt(size2), margin);
-        thr2 = thr * thr;
-    } else {
-        thr2 = tf * tf * size2;
-    }
-    return vw * vw > thr2 * vv;
 }
 
 /// The warm boolean query's first test (a cache from an earlier frame), in world axes: a fresh support pair
