@@ -35,7 +35,8 @@
 /// normal towards the other shape's first support point, and the cross product of two boxes' nearest edges,
 /// `HasCandidateEdges`; a hull's face whose plane its location found the point beyond), it gives those
 /// directions the plane test before the loop (on close box pairs one of them is usually the separating axis).
-/// Its tetrahedron step uses that the newest point is vertex 3.
+/// Its tetrahedron step uses that the newest point is vertex 3. A warm boolean (with a cache) first gives the
+/// cached separating direction the same world-frame plane test (`warm_direction_separates`).
 ///
 /// Accuracy on curved shapes: near contact the support points cluster and the triangle step meets slivers
 /// whose rounded normal can put v below the simplex (|v| then under-estimates the distance and the gap test
