@@ -23,6 +23,18 @@ Transform<double> random_pose(std::mt19937_64& rng, double spread) {
     return {test::random_rotation(rng), Vec3<double>(u(rng), u(rng), u(rng))};
 }
 
+/// Whether a separated boolean result's points are A's and B's extreme points along its normal (within 1e-12),
+/// B's beyond A's: the certificate of a separating-plane exit.
+template <class A, class B>
+bool plane_points_certified(const A& a, const Transform<double>& pa, const B& b, const Transform<double>& pb,
+                            const GjkResult<double>& r) {
+    const Vec3<double> n = r.normal;  // A towards B
+    const double ha = n.dot(pa * Vec3<double>(a.support(pa.R.transpose() * n)));
+    const double hb = n.dot(pb * Vec3<double>(b.support(pb.R.transpose() * Vec3<double>(-n))));
+    return std::abs(n.dot(r.point_a) - ha) <= 1e-12 && std::abs(n.dot(r.point_b) - hb) <= 1e-12 &&
+           n.dot(r.point_b) > n.dot(r.point_a);
+}
+
 std::vector<Vec3<double>> random_points(std::mt19937_64& rng, int n, double r) {
     std::normal_distribution<double> g;
     std::uniform_real_distribution<double> u(0.2, 1.0);
@@ -606,11 +618,7 @@ TEST_CASE("GJK boolean early exit returns the extreme points of a separating pla
         const auto r = gjk_intersect(hull, pa, cap, pb, nullptr, planes_only);
         if (r.status != GjkStatus::separated) continue;
         ++separated;
-        const Vec3<double> n = r.normal;  // A towards B
-        const double ha = n.dot(pa * Vec3<double>(hull.support(pa.R.transpose() * n)));
-        const double hb = n.dot(pb * Vec3<double>(cap.support(pb.R.transpose() * Vec3<double>(-n))));
-        if (std::abs(n.dot(r.point_a) - ha) > 1e-12 || std::abs(n.dot(r.point_b) - hb) > 1e-12) ++bad;
-        if (!(n.dot(r.point_b) > n.dot(r.point_a))) ++bad;
+        if (!plane_points_certified(hull, pa, cap, pb, r)) ++bad;
     }
     CHECK(bad == 0);
     CHECK(separated > test::scaled(500, 50) / 10);
@@ -641,11 +649,7 @@ TEST_CASE("GJK warm boolean's cached-direction exit: the cold answer, with a cer
             wrong += r.colliding() != gjk_intersect(a, pa, b, pb).colliding();
             if (r.status != GjkStatus::separated || r.iterations != 0) continue;
             ++exits;
-            const Vec3<double> n = r.normal;  // A towards B
-            const double ha = n.dot(pa * Vec3<double>(a.support(pa.R.transpose() * n)));
-            const double hb = n.dot(pb * Vec3<double>(b.support(pb.R.transpose() * Vec3<double>(-n))));
-            if (std::abs(n.dot(r.point_a) - ha) > 1e-12 || std::abs(n.dot(r.point_b) - hb) > 1e-12) ++bad;
-            if (!(n.dot(r.point_b) > n.dot(r.point_a))) ++bad;
+            if (!plane_points_certified(a, pa, b, pb, r)) ++bad;
             if (!(r.distance > 0 && r.distance <= gjk_distance(a, pa, b, pb).distance * (1 + 1e-12))) ++bad;
         }
     };
