@@ -346,7 +346,7 @@ template <SupportMapped A, SupportMapped B>
     S size, lower;
     // The margins as gjk_distance passes them: they set the touching threshold that a "separated" exit must
     // beat with a proven plane (with 0, capsule–cone pairs overlapping by 1e-12 of their size came out apart).
-    GjkStatus st = detail::gjk_loop<true>(a, b, rel, settings.gjk, nullptr, false, ma + mb, s, v, size, r.gjk_iterations,
+    GjkStatus st = detail::gjk_loop<true, false>(a, b, rel, settings.gjk, nullptr, ma + mb, s, v, size, r.gjk_iterations,
                                           lower);
     const S eps = std::numeric_limits<S>::epsilon();
     S tiny = settings.gjk.touch_factor * eps * std::max(size, ma + mb);
@@ -355,7 +355,7 @@ template <SupportMapped A, SupportMapped B>
         // 10⁵-long capsule through a hull came out "cores 1.3e-8 apart" (depth = the radius alone, 1/17 of the
         // true depth). Without a plane proving the cores apart, decide on the cores alone.
         int more = 0;
-        st = detail::gjk_loop<true>(a, b, rel, settings.gjk, nullptr, false, S(0), s, v, size, more, lower);
+        st = detail::gjk_loop<true, false>(a, b, rel, settings.gjk, nullptr, S(0), s, v, size, more, lower);
         r.gjk_iterations += more;
         tiny = settings.gjk.touch_factor * eps * std::max(size, ma + mb);
     }
@@ -384,7 +384,7 @@ template <SupportMapped A, SupportMapped B>
     const S margin = ma + mb;
     if (margin > S(0)) return detail::epa_stage<true>(a, b, rel, pose_a, s, settings, margin, ma, mb, r);
     int it2 = 0;
-    st = detail::gjk_loop<false>(a, b, rel, settings.gjk, nullptr, false, S(0), s, v, size, it2, lower);
+    st = detail::gjk_loop<false, false>(a, b, rel, settings.gjk, nullptr, S(0), s, v, size, it2, lower);
     r.gjk_iterations += it2;
     tiny = settings.gjk.touch_factor * eps * size;
     if (st == GjkStatus::separated && v.norm() > tiny) {
