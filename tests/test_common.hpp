@@ -18,9 +18,15 @@ inline int scaled(int n, int min = 1) {
     int v = static_cast<int>(n * scale());
     return v < min ? min : v;
 }
-inline std::string data_path(const std::string& name) { return std::string(CDKIT_DATA_DIR) + "/" + name; }
-inline std::string test_data_path(const std::string& name) {
-    return std::string(CDKIT_TEST_DATA_DIR) + "/" + name;
+/// dir + "/" + name, appended in place: GCC 12 warned (-Wstringop-overflow, a false positive) on the temporary
+/// of std::string(dir) + "/" in every test that includes this header.
+inline std::string joined_path(const char* dir, const std::string& name) {
+    std::string path(dir);
+    path.push_back('/');
+    path.append(name);
+    return path;
 }
+inline std::string data_path(const std::string& name) { return joined_path(CDKIT_DATA_DIR, name); }
+inline std::string test_data_path(const std::string& name) { return joined_path(CDKIT_TEST_DATA_DIR, name); }
 
 }  // namespace cdkit::test
