@@ -10,6 +10,7 @@
 #include <cdkit/narrowphase/separating_plane.hpp>
 
 #include "ccd_adapter.hpp"
+#include "coherent_scene.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -26,32 +27,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
 constexpr int batch = 25;  // consecutive frames per timed batch (a per-query clock read costs 20–30 ns)
-
-/// Points on an ellipsoid surface: every one is a hull vertex.
-std::vector<Vec3<double>> ellipsoid_points(std::mt19937_64& rng, int n, const Vec3<double>& radii) {
-    std::normal_distribution<double> g;
-    std::vector<Vec3<double>> p;
-    for (int i = 0; i < n; ++i) p.push_back(Vec3<double>(g(rng), g(rng), g(rng)).normalized().cwiseProduct(radii));
-    return p;
-}
-std::vector<Vec3<LD>> to_ld(const std::vector<Vec3<double>>& p) {
-    std::vector<Vec3<LD>> o;
-    for (const auto& x : p) o.push_back(x.cast<LD>());
-    return o;
-}
-
-struct Frame {
-    Transform<double> pa, pb;
-    bool ref_hit = false;
-    double ref_distance = 0;  // long-double reference, rounded
-};
-
-struct Scene {
-    std::string name;
-    std::vector<Frame> frames;
-};
+using Scene = cdbench::CoherentScene;
+using Frame = cdbench::CoherentFrame;
 
 /// One method's per-frame answers and timing.
 struct Outcome {
@@ -112,45 +90,6 @@ template <class... M> std::vector<Outcome> run(const Scene& s, int reps, M&... m
     return out;
 }
 
-/// Builds a scene: A spins in place, B spins and orbits A; the gap along the closest-point normal follows
-/// `gap(frame)` (set with the long-double reference).
-template <class Gap>
-Scene make_scene(const char* name, int frames, const ConvexPolyhedron<LD>& al, const ConvexPolyhedron<LD>& bl, Gap gap,
-                 std::mt19937_64& rng) {
-    Scene s{name, {}};
-    std::normal_distribution<double> g;
-    auto axis = [&] { return Vec3<double>(g(rng), g(rng), g(rng)).normalized(); };
-    const Mat3<double> spin_a = Eigen::AngleAxisd(0.5 * pi / 180, axis()).toRotationMatrix();
-    const Mat3<double> spin_b = Eigen::AngleAxisd(0.7 * pi / 180, axis()).toRotationMatrix();
-    const Mat3<double> orbit = Eigen::AngleAxisd(0.3 * pi / 180, axis()).toRotationMatrix();
-    Transform<double> pa(Mat3<double>::Identity(), Vec3<double>::Zero());
-    Transform<double> pb(Mat3<double>::Identity(), Vec3<double>(3, 0, 0));
-    Vec3<double> dir = axis().cross(Vec3<double>::UnitZ()).normalized();
-    GjkSettings<LD> tight;
-    tight.rel_tolerance = 1e-16L;
-    for (int f = 0; f < frames; ++f) {
-        // Re-orthonormalised each frame (through a unit quaternion): a product of thousands of rotations drifts
-        // (2e-13 after 2000 frames), and GJK's frame of A takes R_aᵀ for R_a's inverse.
-        pa.R = Eigen::Quaterniond(Mat3<double>(spin_a * pa.R)).normalized().toRotationMatrix();
-        pb.R = Eigen::Quaterniond(Mat3<double>(spin_b * pb.R)).normalized().toRotationMatrix();
-        dir = orbit * dir;
-        pb.t = 3.0 * dir;
-        const double target = gap(f);
-        for (int k = 0; k < 4; ++k) {  // along the normal to the target gap (a few steps: the normal turns)
-            auto d = gjk_distance(al, pa.cast<LD>(), bl, pb.cast<LD>(), nullptr, tight);
-            if (d.status != GjkStatus::separated) break;
-            pb.t += (target - double(d.distance)) * d.normal.cast<double>();
-            if (target <= 0) break;
-        }
-        // The reference in the world frame, both shapes placed by their poses (as the near-contact refinement
-        // measures; A's frame maps B by R_aᵀ, R_a's inverse only to its rounding: docs/convex.md, "Near contact").
-        const Transformed<ConvexPolyhedron<LD>> ta{al, pa.cast<LD>()}, tb{bl, pb.cast<LD>()};
-        auto ref = gjk_distance(ta, Transform<LD>(), tb, Transform<LD>(), nullptr, tight);
-        s.frames.push_back({pa, pb, ref.colliding(), double(ref.distance)});
-    }
-    return s;
-}
-
 struct Errors {
     long wrong_bool = 0, bool_checked = 0, wrong_dist = 0, dist_checked = 0;
     double worst_rel = 0;
@@ -181,23 +120,16 @@ int main(int argc, char** argv) {
     const int frames = argc > 1 ? std::max(batch, std::atoi(argv[1])) : 2000;
     const int reps = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
     std::FILE* csv = argc > 3 ? std::fopen(argv[3], "w") : nullptr;
-    std::mt19937_64 rng(20261122);
-    const auto pts_a = ellipsoid_points(rng, 20, {1.0, 0.7, 0.5});
-    const auto pts_b = ellipsoid_points(rng, 200, {0.9, 0.8, 0.6});
-    const ConvexPolyhedron<double> a(pts_a), b(pts_b);
-    const ConvexPolyhedron<LD> al(to_ld(pts_a)), bl(to_ld(pts_b));
+    std::mt19937_64 rng(cdbench::coherent_seed);
+    const cdbench::CoherentPoints pts = cdbench::coherent_points(rng);
+    const ConvexPolyhedron<double> a(pts.a), b(pts.b);
+    const ConvexPolyhedron<LD> al(cdbench::to_ld(pts.a)), bl(cdbench::to_ld(pts.b));
     const double scale = 1.0;
     std::printf("Coherent motion: A = hull of %zu vertices, B = hull of %zu vertices (size ~1); %d frames x %d "
                 "repetitions; per-frame motion: spins 0.5 and 0.7 deg, orbit 0.3 deg\n",
                 a.vertices().size(), b.vertices().size(), frames, reps);
 
-    std::vector<Scene> scenes;
-    scenes.push_back(make_scene("separated", frames, al, bl,
-                                [](int f) { return 0.3 + 0.2 * std::sin(2 * pi * f / 500.0); }, rng));
-    scenes.push_back(make_scene("near-touching", frames, al, bl,
-                                [](int f) { return std::pow(10.0, -3.0 + std::sin(2 * pi * f / 400.0)); }, rng));
-    scenes.push_back(make_scene("in-and-out", frames, al, bl,
-                                [](int f) { return 0.005 + 0.025 * std::sin(2 * pi * f / 300.0); }, rng));
+    const std::vector<Scene> scenes = cdbench::coherent_scenes(frames, al, bl, rng);
     if (csv) std::fprintf(csv, "scene,method,median_ns,ratio_cold_dist,ratio_cold_bool,mean_iterations,fallbacks,"
                                "wrong_bool,bool_checked,wrong_dist,dist_checked,worst_rel\n");
 

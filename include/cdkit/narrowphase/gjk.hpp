@@ -1478,39 +1478,44 @@ CDKIT_ALWAYS_INLINE bool candidate_axes_decide(const A& a, const Transform<typen
 /// One support pair of the boolean queries' world-frame first step: A's point along `da` (A's frame), B's along
 /// v (world axes, B's frame after the rotation), both placed; then the plane test of the cold query's loop along
 /// v, the direction from B towards A (`plane_separates_squared`, with |w| and then the points' world magnitudes
-/// as the size). `separated`: `r` holds the separated result (status, lower-bound distance, world normal,
-/// the two shapes' extreme points along it), all but the iteration count; `open`: no plane, `pair` holds the
-/// points for the caller's next step; `non_finite`: w is NaN or infinite. Shared by the cold query's first
-/// iteration (v the centre line, da = R_aᵀ·(−v)) and the warm query's cached direction (da the cached one,
-/// v = −R_a·da: the same bits as that query had on its own).
+/// as the size). The returned step: `separated`, `r` holds the separated result (status, lower-bound distance,
+/// world normal, the two shapes' extreme points along it), all but the iteration count; `open`, no plane, the
+/// pair's points are for the caller's next step; `non_finite`, w is NaN or infinite. Shared by the cold query's
+/// first iteration (v the centre line, da = R_aᵀ·(−v)) and the warm query's cached direction (da the cached one,
+/// v = −R_a·da: the same bits as that query had on its own). Returned by value, the caller copying the points
+/// into locals: filled through a reference, the cold query kept them in memory (hull pairs 4–12 % slower).
+enum class WorldStep { separated, open, non_finite };
 template <class S> struct WorldPair {
     Vec3<S> sa, sb;  ///< the support points, each in its shape's frame
     S size2;         ///< |w|², w = A's point − B's in world axes
+    WorldStep step;
 };
-enum class WorldStep { separated, open, non_finite };
 template <SupportMapped A, SupportMapped B>
-CDKIT_ALWAYS_INLINE WorldStep world_plane_step(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+CDKIT_ALWAYS_INLINE WorldPair<typename A::Scalar> world_plane_step(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                                                const Transform<typename A::Scalar>& pose_b,
                                                const Vec3<typename A::Scalar>& v, typename A::Scalar vv,
                                                const Vec3<typename A::Scalar>& da, typename A::Scalar tf,
-                                               std::uint32_t* hints, WorldPair<typename A::Scalar>& pair,
-                                               GjkResult<typename A::Scalar>& r) noexcept {
+                                               std::uint32_t* hints, GjkResult<typename A::Scalar>& r) noexcept {
     using S = typename A::Scalar;
     const S ma = margin_of(a), mb = margin_of(b), margin = ma + mb;
+    WorldPair<S> pair;
     pair.sa = core_support_hinted(a, da, hints);
     pair.sb = core_support_hinted(b, rotate_back(pose_b.R, v), hints + 1);
     const Vec3<S> pa = place(pose_a, pair.sa), pb = place(pose_b, pair.sb);
     const Vec3<S> w = minus(pa, pb);
     pair.size2 = norm2(w);
-    if (!(pair.size2 <= std::numeric_limits<S>::max())) return WorldStep::non_finite;
+    pair.step = WorldStep::non_finite;
+    if (!(pair.size2 <= std::numeric_limits<S>::max())) return pair;
     const S vw = dot3(v, w);
     // The tolerance scales with the magnitudes whose rounding w carries: world coordinates, up to |t| away from
     // the origin. |w| alone shrinks to nothing on a touching pair and let a rounding-level gap pass as a plane
     // (a cone–hull pair at gap 0, 100 sizes from the origin: "separated" at 2e-16 of the size). The |w| test
     // first: the magnitudes are only needed when it passes.
     if (!(plane_separates_squared(vw, vv, pair.size2, margin, tf) &&
-          plane_separates_squared(vw, vv, std::max(pair.size2, std::max(norm2(pa), norm2(pb))), margin, tf)))
-        return WorldStep::open;
+          plane_separates_squared(vw, vv, std::max(pair.size2, std::max(norm2(pa), norm2(pb))), margin, tf))) {
+        pair.step = WorldStep::open;
+        return pair;
+    }
     const S inv = S(1) / std::sqrt(vv);
     const Vec3<S> n = Vec3<S>(-v[0] * inv, -v[1] * inv, -v[2] * inv);  // A towards B
     r.status = GjkStatus::separated;
@@ -1518,7 +1523,8 @@ CDKIT_ALWAYS_INLINE WorldStep world_plane_step(const A& a, const Transform<typen
     r.normal = n;
     r.point_a = plus_scaled(pa, ma, n);
     r.point_b = plus_scaled(pb, -mb, n);
-    return WorldStep::separated;
+    pair.step = WorldStep::separated;
+    return pair;
 }
 
 /// The warm boolean query's first test (a cache from an earlier frame), in world axes: a fresh support pair
@@ -1538,8 +1544,8 @@ inline bool warm_direction_separates(const A& a, const Transform<typename A::Sca
     const Vec3<S>& d = cache.directions[0];  // A's support direction (towards B), A's frame
     const Vec3<S> v = neg(rotate(pose_a.R, d));  // from B towards A in world axes, as the cold query's centre line
     std::uint32_t hints[2] = {cache.hint_a, cache.hint_b};
-    WorldPair<S> pair;
-    switch (world_plane_step(a, pose_a, b, pose_b, v, norm2(v), d, tf, hints, pair, r)) {
+    const WorldPair<S> pair = world_plane_step(a, pose_a, b, pose_b, v, norm2(v), d, tf, hints, r);
+    switch (pair.step) {
         case WorldStep::separated:
             r.iterations = 0;
             r.simplex.size = 0;
@@ -1593,8 +1599,8 @@ CDKIT_NOINLINE void gjk_intersect_cold_search(const A& a, const Transform<typena
     // and supporting points are already world-frame (no transforms back).
     if (!(vv > S(0)) || !(vv <= std::numeric_limits<S>::max())) { vw_dir = Vec3<S>::UnitX(); vv = S(1); }
     const Vec3<S> da = rotate_back(pose_a.R, neg(vw_dir));  // A's support direction, A's frame
-    WorldPair<S> pair;
-    switch (world_plane_step(a, pose_a, b, pose_b, vw_dir, vv, da, tf, hints, pair, r)) {
+    const WorldPair<S> pair = world_plane_step(a, pose_a, b, pose_b, vw_dir, vv, da, tf, hints, r);
+    switch (pair.step) {
         case WorldStep::separated: r.iterations = 1; return;
         case WorldStep::non_finite:
             r.iterations = 1;
@@ -1604,8 +1610,7 @@ CDKIT_NOINLINE void gjk_intersect_cold_search(const A& a, const Transform<typena
             return;
         case WorldStep::open: break;
     }
-    const Vec3<S>& sa = pair.sa;
-    const Vec3<S>& sb = pair.sb;
+    const Vec3<S> sa = pair.sa, sb = pair.sb;
     S size2 = pair.size2;
     // Otherwise the loop, in A's frame, from that support point.
     const Transform<S> rel = relative_pose(pose_a, pose_b);
