@@ -879,10 +879,10 @@ inline void prove_touching_overlap(const A& a, const B& b, const Transform<typen
 /// template parameter, so that each query's loop carries none of the other's bookkeeping: 3.6 % fewer instructions
 /// per warm distance query in the coherent benchmark) selects the early exit.
 ///
-/// The boolean exit tests every support point, the very first one and the warm start's included: for any
-/// direction u, w = s_D(−u) minimises u·x over D, so u·w/|u| > 0 is a separating plane whether or not u is
-/// the closest point of the current simplex (distant pairs are then decided by one support pair, and a
-/// coherent pair by the cached direction that separated it the frame before).
+/// The boolean exit tests every support point, the very first one included: for any direction u, w = s_D(−u)
+/// minimises u·x over D, so u·w/|u| > 0 is a separating plane whether or not u is the closest point of the
+/// current simplex (distant pairs are then decided by one support pair). A coherent pair's cached direction, the
+/// one that separated it the frame before, is tested before the loop (`warm_direction_separates`).
 template <bool use_cores, bool boolean, SupportMapped A, SupportMapped B>
 inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
                           const GjkSettings<typename A::Scalar>& settings, GjkCache<typename A::Scalar>* cache,
@@ -890,7 +890,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
                           Vec3<typename A::Scalar>& v, typename A::Scalar& size_out, int& iterations,
                           typename A::Scalar& lower_out, typename A::Scalar exit_quality = 0,
                           GjkVertex<typename A::Scalar>* exit_support = nullptr,
-                          bool retry_cached_direction = true, bool* tolerance_met = nullptr) noexcept {
+                          bool* tolerance_met = nullptr) noexcept {
     using S = typename A::Scalar;
     using Solver = SimplexSolver<S>;
     const S eps = std::numeric_limits<S>::epsilon();
@@ -954,8 +954,9 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     // Boolean exit on the support point x found along −u: true when the plane proves separation.
     // With `exit_quality` κ > 0 (warm-started queries) a plane is only accepted once its gap is at least κ
     // times the upper bound |v| − margin, so the direction cached for the next frame keeps a margin under
-    // coherent motion instead of barely separating (the cached-direction test itself is exempt).
-    auto separates = [&](const Vec3<S>& u, const GjkVertex<S>& x, bool check_quality) {
+    // coherent motion instead of barely separating (the cached direction's own test, warm_direction_separates
+    // before the loop, is exempt).
+    auto separates = [&](const Vec3<S>& u, const GjkVertex<S>& x) {
         const S uw = u.dot(x.w);
         // No positive plane now and none before: nothing to test (skips the sqrt and division on the
         // iterations that do not separate).
@@ -970,7 +971,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         if (!(boolean &&
               lower_bound > early_exit_margin + settings.touch_factor * eps * std::max(size, early_exit_margin)))
             return false;
-        if (check_quality && exit_quality > S(0) &&
+        if (exit_quality > S(0) &&
             !(s.size > 0 && lower_bound - early_exit_margin >= exit_quality * (un - early_exit_margin))) {
             if (improved) {
                 best_u = u;
@@ -1007,19 +1008,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         for (int i = 0; i < n; ++i) {
             // Built in the simplex's free slot (s.size < 4 here), which it joins by ++s.size.
             GjkVertex<S>& x = s.v[std::size_t(s.size)];
-            if (boolean && i == 0 && retry_cached_direction) {
-                // Boolean: first the direction cached first (the last separating one) with a fresh support
-                // pair; under coherent motion it usually still separates, which settles the query.
-                x = minkowski_support<use_cores>(a, b, rel, cache->directions[0], hints);
-                if (!x.w.allFinite()) continue;
-                size2 = std::max(size2, x.w.squaredNorm());
-                if (separates(Vec3<S>(-x.d), x, false)) {
-                    v = -x.d;
-                    s.size = 0;
-                    if (exit_support) *exit_support = x;
-                    return done(GjkStatus::separated);
-                }
-            } else if (rebuilds) {
+            if (rebuilds) {
                 // The stored support points under the new poses: points of D, no support query.
                 x.a = cache->point_a[std::size_t(i)];
                 x.b_local = cache->point_b[std::size_t(i)];
@@ -1060,7 +1049,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
         if (!all_finite(x.w)) { status = GjkStatus::degenerate; break; }
         size2 = std::max(size2, x.w.squaredNorm());
-        if (boolean && separates(v, x, true)) {
+        if (boolean && separates(v, x)) {
             status = GjkStatus::separated;
             if (exit_support) *exit_support = x;
             store(&x);
@@ -1530,10 +1519,10 @@ CDKIT_ALWAYS_INLINE WorldPair<typename A::Scalar> world_plane_step(const A& a, c
 /// The warm boolean query's first test (a cache from an earlier frame), in world axes: a fresh support pair
 /// along the cache's first direction (the last separating one), with the plane test of gjk_intersect_cold's
 /// first step — no relative pose, no square root unless it separates, the result's normal and points already
-/// in world axes. gjk_loop's own retry of that direction (A's frame, square roots for the bound and the
+/// in world axes. The loop's former test of that direction (A's frame, square roots for the bound and the
 /// tolerance, the result rotated back) made a warm boolean dearer than a cold one on separated frames (126 vs
-/// 96 ns in the coherent benchmark). True, with `r` and the cache's hints set, when the pair separates; the
-/// cache is otherwise untouched, as after gjk_loop's exit there. Iterations 0, as there.
+/// 96 ns in the coherent benchmark). True, with `r` and the cache's hints set, when the pair separates
+/// (iterations 0); otherwise the pair goes into the cache's first slot for the loop (see below).
 template <SupportMapped A, SupportMapped B>
 inline bool warm_direction_separates(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                                      const Transform<typename A::Scalar>& pose_b,
@@ -1991,7 +1980,7 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
     }
     if (boolean && retry_cached_direction && cache->size > 0) {
         if (warm_direction_separates(a, pose_a, b, pose_b, settings, *cache, r)) return r;
-        retry_cached_direction = false;  // tried, in world axes: the loop starts from the rebuilt cache
+        // Tried, in world axes: the loop starts from the rebuilt cache (its first slot now holds that pair).
     }
     const Transform<S> rel = relative_pose(pose_a, pose_b);
     const S margin = margin_of(a) + margin_of(b);
@@ -2002,10 +1991,9 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
     bool tolerance_met = true;
     GjkStatus st = boolean ? gjk_loop<true, true>(a, b, rel, settings, cache, margin, r.simplex, v, size,
                                                   r.iterations, lower, cache ? settings.warm_exit_quality : S(0),
-                                                  &sep, retry_cached_direction, nullptr)
+                                                  &sep, nullptr)
                            : gjk_loop<true, false>(a, b, rel, settings, cache, margin, r.simplex, v, size,
-                                                   r.iterations, lower, S(0), &sep, retry_cached_direction,
-                                                   &tolerance_met);
+                                                   r.iterations, lower, S(0), &sep, &tolerance_met);
     gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
     if (r.status == GjkStatus::touching) prove_touching_overlap(a, b, rel, r);
     if constexpr (refines_near_contact<S>) {
