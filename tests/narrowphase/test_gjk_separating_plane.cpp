@@ -57,6 +57,18 @@ TEST_CASE("separating plane near contact: never wrong, the cached plane still an
     ConvexPolyhedron<double> a(pa_pts), b(pb_pts);
     Capsule<double> cap(0.2, 0.4);
     // B follows a coherent path kept at gaps 1e-2 … 1e-5 (one frame in four overlapping by 1e-3).
+    // The cached plane after a "separated" answer: a unit normal with A's points on its front and B's behind
+    // (checked on the polyhedron pair, whose vertices are the shapes' extreme points).
+    int planes_checked = 0, planes_wrong = 0;
+    auto check_plane = [&](const SeparatingPlaneCache<double>& c, const Transform<double>& pa, const Transform<double>& pb) {
+        if (!c.valid) return;
+        ++planes_checked;
+        double lowest_a = 1e300, highest_b = -1e300;
+        for (const auto& x : pa_pts) lowest_a = std::min(lowest_a, c.n.dot(pa * x) + c.c);
+        for (const auto& x : pb_pts) highest_b = std::max(highest_b, c.n.dot(pb * x) + c.c);
+        planes_wrong += !(std::abs(c.n.norm() - 1) < 1e-12 && lowest_a > -1e-12 && highest_b < 1e-12 &&
+                          lowest_a - highest_b > 0);
+    };
     auto run = [&](const auto& sb, int& frames, int& wrong, int& hits, int& gjk_calls) {
         SeparatingPlaneCache<double> cache;
         Transform<double> pa, pb;
@@ -74,6 +86,8 @@ TEST_CASE("separating plane near contact: never wrong, the cached plane still an
             hits += ref.colliding();
             wrong += r.colliding != ref.colliding();
             gjk_calls += r.used_gjk;
+            if constexpr (std::is_same_v<std::decay_t<decltype(sb)>, ConvexPolyhedron<double>>)
+                if (!r.colliding) check_plane(cache, pa, pb);
         }
     };
     int frames = 0, wrong = 0, hits = 0, gjk_calls = 0;
@@ -83,5 +97,7 @@ TEST_CASE("separating plane near contact: never wrong, the cached plane still an
     CHECK(hits > frames / 8);
     // Colliding frames always need GJK; of the separated ones near contact, some are settled by the plane.
     CHECK(gjk_calls < frames - frames / 10);
+    CHECK(planes_checked > 100);
+    CHECK(planes_wrong == 0);
     UNSCOPED_INFO("frames " << frames << " colliding " << hits << " GJK fallbacks " << gjk_calls);
 }
