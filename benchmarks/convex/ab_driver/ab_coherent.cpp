@@ -4,6 +4,9 @@
 // methods from an empty cache, thread CPU time over the passes.
 #include "../coherent_scene.hpp"
 
+#include <cdkit/narrowphase/closest_features.hpp>
+#include <cdkit/narrowphase/separating_plane.hpp>
+
 #include <time.h>
 #define CAT2(a, b) a##b
 #define CAT(a, b) CAT2(a, b)
@@ -16,7 +19,7 @@ double checksum(const GjkResult<double>& r) {
 }
 }  // namespace
 /// ns per frame over `reps` passes; scene 0 separated, 1 near-touching, 2 in-and-out; method 0 cold distance,
-/// 1 warm distance, 2 cold boolean, 3 warm boolean. `sig`: a checksum of every result field of the last pass.
+/// 1 warm distance, 2 cold boolean, 3 warm boolean, 4 separating plane, 5 closest features. `sig`: a checksum of every result field of the last pass.
 double CAT(coh_, VARIANT)(int scene, int method, int reps, double* sig) {
     struct Setup {
         std::mt19937_64 rng{cdbench::coherent_seed};
@@ -33,6 +36,25 @@ double CAT(coh_, VARIANT)(int scene, int method, int reps, double* sig) {
     for (int rep = 0; rep < reps; ++rep) {
         cache.size = 0;
         s = 0;
+        if (method == 4) {
+            SeparatingPlaneCache<double> plane;
+            for (const auto& f : frames) {
+                asm volatile("" ::: "memory");
+                const auto r = separating_plane_intersect(setup.a, f.pa, setup.b, f.pb, plane);
+                s += r.colliding + 3 * r.used_gjk + 5 * r.iterations + plane.n.sum() + plane.c;
+            }
+            continue;
+        }
+        if (method == 5) {
+            ClosestFeatureCache<double> features;
+            for (const auto& f : frames) {
+                asm volatile("" ::: "memory");
+                const auto r = closest_features(setup.a, f.pa, setup.b, f.pb, &features);
+                s += r.distance + r.normal.sum() + r.point_a.sum() + 3 * r.point_b.sum() + int(r.status) * 7 +
+                     r.iterations * 11 + 13 * r.used_gjk;
+            }
+            continue;
+        }
         for (const auto& f : frames) {
             asm volatile("" ::: "memory");
             const GjkResult<double> r =

@@ -12,11 +12,12 @@ int main(int argc, char** argv) {
     const int rounds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 7;
     const int passes = argc > 2 ? std::max(1, std::atoi(argv[2])) : 1;
     const char* scene_names[3] = {"separated", "near-touching", "in-and-out"};
-    const char* method_names[4] = {"cold distance", "warm distance", "cold boolean", "warm boolean"};
-    const int reps[4] = {2, 10, 10, 20};  // passes per measurement, times `passes`: ~5-20 ms each
+    const char* method_names[6] = {"cold distance", "warm distance",    "cold boolean",
+                                   "warm boolean",  "separating plane", "closest features"};
+    const int reps[6] = {2, 10, 10, 20, 20, 10};  // passes per measurement, times `passes`: ~5-20 ms each
     for (int sc = 0; sc < 3; ++sc) {
-        double med[2][4];
-        for (int m = 0; m < 4; ++m) {
+        double med[2][6];
+        for (int m = 0; m < 6; ++m) {
             std::vector<double> to, tn, rt;
             double so = 0, sn = 0;
             for (int r = 0; r < rounds; ++r) {
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
                         scene_names[sc], method_names[m], med[0][m], med[1][m], rounds, rt[std::size_t(rounds / 2)],
                         rt.front(), rt.back(), so == sn ? "same results" : "RESULTS DIFFER");
         }
-        std::printf("%-13s cold distance / warm distance: old %.2f new %.2f\n", scene_names[sc], med[0][0] / med[0][1],
-                    med[1][0] / med[1][1]);
+        for (int m = 1; m < 6; ++m)
+            std::printf("%-13s cold distance / %s: old %.2f new %.2f\n", scene_names[sc], method_names[m],
+                        med[0][0] / med[0][m], med[1][0] / med[1][m]);
     }
 }

@@ -3,8 +3,8 @@
 # binary under two namespaces and timed alternately. Usage, from anywhere:
 #   benchmarks/convex/ab_driver/run.sh [REV=HEAD] [alternations=7] [pass multiplier=3] [cold|coherent]
 # cold (default): the cold boolean GJK on P3-like pairs (ab_variant.cpp, ab_main.cpp); coherent: cold and warm GJK
-# distance and boolean on cdkit_bench_coherent's scenes (ab_coherent.cpp, ab_coherent_main.cpp), with each side's
-# cold/warm distance ratio. Needs g++, Eigen and qhull_r (the library's own dependencies). On a shared machine run
+# distance and boolean, the separating plane and closest features on cdkit_bench_coherent's scenes (ab_coherent.cpp,
+# ab_coherent_main.cpp), with each side's cold-distance ratio for each method. Needs g++, Eigen and qhull_r (the library's own dependencies). On a shared machine run
 # it under `nice`.
 set -e
 rev=${1:-HEAD}
