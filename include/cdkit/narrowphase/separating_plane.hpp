@@ -121,7 +121,8 @@ template <SupportMapped A, SupportMapped B>
         }
     }
     r.used_gjk = true;
-    // The GJK cache's first direction is the one the plane came from, just found failing: skip it.
+    // After a failing plane the GJK cache's first slot is that plane's support pair (or, with margins, the
+    // direction the plane was seeded from), just found not to separate: its own test is skipped.
     const bool plane_failed = cache.valid;
     GjkResult<S> g = detail::gjk_query(a, pose_a, b, pose_b, &cache.gjk, GjkSettings<S>{}, true, !plane_failed);
     r.gjk_status = g.status;
