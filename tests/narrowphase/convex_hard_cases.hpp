@@ -10,8 +10,10 @@
 // pose: the smaller inside the larger, or a needle through it) and coincident (the same shape at the same pose);
 // gaps are set by long-double GJK along its closest-point normal (near_contact_pose.hpp).
 // Queries per case: cold boolean; boolean and distance warm-started from the cache their first call filled (a
-// second call at the same pose); gjk_distance cold; penetration() where either the reference or the cold
-// boolean says the pair collides.
+// second call at the same pose); gjk_distance cold; the separating plane from an empty cache and from the plane
+// (or GJK cache) of B half a size further out along the centre line; for hull pairs the closest-feature walk,
+// cold and from the far pose's features; penetration() where either the reference or the cold boolean says the
+// pair collides.
 // Failures: a non-finite value in a result that reports it (distance, normal, points, depth), a status a query
 // may not give on finite shapes (max_iterations, degenerate), a boolean or a distance status that contradicts
 // long-double GJK where that is decisive (intersecting, or separated by more than 1e-9 of the size), a negative
@@ -20,9 +22,11 @@
 // the certified interval by more than 1e-9 relative, EPA's statuses (max_iterations and degenerate carry a finite
 // best estimate), the width of its bracket [depth_lower, depth] and depths off h(n), the slowest case (a hang
 // would never end: every query has an iteration cap).
+#include <cdkit/narrowphase/closest_features.hpp>
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/epa.hpp>
+#include <cdkit/narrowphase/separating_plane.hpp>
 
 #include "convex_case_file.hpp"
 #include "convex_reference.hpp"
@@ -262,6 +266,54 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
             ++c.described;
         }
         ++q;
+    }
+    // The separating plane and, for two hulls, the closest-feature walk: cold, and after a query at B moved half a
+    // size away along the centre line (a cached plane or feature pair from there, which near contact fails: then
+    // the walk, or GJK from the handed-over support pair).
+    Transform<double> pb_far = pb;
+    {
+        const Vec3<double> away = pb.t - pa.t;
+        pb_far.t += 0.5 * size * (away.squaredNorm() > 0 ? Vec3<double>(away.normalized()) : Vec3<double>::UnitX());
+    }
+    auto judge = [&](const char* name, bool finite_values, GjkStatus st, bool colliding, bool distance_query) {
+        const long before = c.failures();
+        c.nonfinite += !finite_values;
+        c.bad_status += !(st == GjkStatus::separated || st == GjkStatus::touching || st == GjkStatus::intersecting);
+        if (decisive && colliding != ref_overlap) {
+            if (distance_query) ++c.wrong_distance_status;
+            else ++c.wrong_boolean;
+        }
+        if (c.failures() > before && c.described < 12) {
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "  failure: %s, %s placement, size %.3g, |t_a| %.3g: status %d colliding %d; long double "
+                          "status %d distance %.17Lg; ",
+                          name, placement_names[m], size, pa.t.norm(), int(st), int(colliding), int(ref.status),
+                          ref.distance);
+            c.first_failures += line + describe(a) + " / " + describe(b) + "\n";
+            ++c.described;
+        }
+    };
+    {
+        SeparatingPlaneCache<double> fresh, moved;
+        const auto cold_plane = separating_plane_intersect(a, pa, b, pb, fresh);
+        (void)separating_plane_intersect(a, pa, b, pb_far, moved);
+        const auto warm_plane = separating_plane_intersect(a, pa, b, pb, moved);
+        for (const auto* r : {&cold_plane, &warm_plane})
+            judge(r == &cold_plane ? "separating plane" : "separating plane (cached)", true,
+                  r->used_gjk ? r->gjk_status : GjkStatus::separated, r->colliding, false);
+    }
+    if constexpr (std::is_same_v<A, ConvexPolyhedron<double>> && std::is_same_v<B, ConvexPolyhedron<double>>) {
+        ClosestFeatureCache<double> moved;
+        const auto cold_walk = closest_features(a, pa, b, pb);
+        (void)closest_features(a, pa, b, pb_far, &moved);
+        const auto warm_walk = closest_features(a, pa, b, pb, &moved);
+        for (const auto* r : {&cold_walk, &warm_walk}) {
+            const bool finite_values = std::isfinite(r->distance) && r->point_a.allFinite() &&
+                                       r->point_b.allFinite() && r->normal.allFinite();
+            judge(r == &cold_walk ? "closest features" : "closest features (cached)", finite_values, r->status,
+                  r->colliding(), true);
+        }
     }
     // Separation distances against the certified interval (reported).
     if (ref.status == GjkStatus::separated && ref.distance > LD(1e-6 * size) && dist.status == GjkStatus::separated) {

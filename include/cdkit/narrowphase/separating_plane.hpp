@@ -45,19 +45,30 @@ template <SupportMapped A, SupportMapped B>
     SeparatingPlaneCache<typename A::Scalar>& cache, int max_iterations = 16) noexcept {
     using S = typename A::Scalar;
     SeparatingPlaneResult<S> r;
+    // n separates A's lowest point p and B's highest point q along n (world frame) when n·(p − q) > 0 — beyond the
+    // touching tolerance of the GJK queries (touch_factor·ε times the magnitudes whose rounding p and q carry: their
+    // world coordinates, and |p − q| itself), compared in squares. With "> 0" alone two coincident flat boxes (zero
+    // thickness: p and q on the same plane, n·(p − q) a rounding error of either sign) came out separated; found
+    // when the hard-case count took in the plane.
+    const S tf = GjkSettings<S>{}.touch_factor * std::numeric_limits<S>::epsilon();
+    auto proves = [tf](const Vec3<S>& n, const Vec3<S>& p, const Vec3<S>& q) {
+        const Vec3<S> pq = p - q;
+        const S size2 = std::max(std::max(p.squaredNorm(), q.squaredNorm()), pq.squaredNorm());
+        return detail::plane_separates_squared(n.dot(pq), n.squaredNorm(), size2, S(0), tf);
+    };
     if (cache.valid) {
         // The cached plane: one support pair, in world axes, decides it. Its unit normal n proves separation when
-        // A's lowest point p and B's highest point q along n satisfy n·(p − q) > 0 (all of A at or above p, all
-        // of B at or below q), whatever the offset; the plane is then re-centred midway between them, which keeps
-        // the largest margin for the next frame at no extra query. No centres, square root or division here: on
-        // coherent frames this check is the whole query.
+        // A's lowest point p and B's highest point q along n are apart along it (all of A at or above p, all of B
+        // at or below q: `proves`), whatever the offset; the plane is then re-centred midway between them, which
+        // keeps the largest margin for the next frame at no extra query. No centres, square root or division
+        // here: on coherent frames this check is the whole query.
         const Vec3<S> n = cache.n;
         const Vec3<S> da = detail::rotate_back(pose_a.R, Vec3<S>(-n));  // A's support direction, A's frame
         const Vec3<S> sa = detail::support_hinted(a, da, &cache.gjk.hint_a);
         const Vec3<S> sb = detail::support_hinted(b, detail::rotate_back(pose_b.R, n), &cache.gjk.hint_b);
         const Vec3<S> p = detail::place(pose_a, sa);
         const Vec3<S> q = detail::place(pose_b, sb);
-        if (n.dot(Vec3<S>(p - q)) > S(0)) {
+        if (proves(n, p, q)) {
             cache.c = -(n.dot(p) + n.dot(q)) / S(2);
             cache.last_colliding = false;
             return r;
@@ -105,7 +116,7 @@ template <SupportMapped A, SupportMapped B>
             const Vec3<S> p = (pw - o) / len;
             const Vec3<S> q = (qw - o) / len;
             const S sp = n.dot(p) + c, sq = n.dot(q) + c;
-            if (n.dot(p - q) > S(0)) {
+            if (proves(n, pw, qw)) {
                 // Proven as above; stored in the world frame (the scaling is uniform, so n is the world normal):
                 // n·(x − o)/len + c − (sp + sq)/2 = 0.
                 cache.n = n;
