@@ -2,9 +2,10 @@
 // A seeded corpus of convex pairs that are hard on purpose, for issue 5's robustness count (the test
 // test_gjk_hard_cases.cpp and the benchmark cdkit_bench_convex_hard run the same generator).
 //
-// Shapes: boxes, cylinders, capsules, cones, ellipsoids, spheres and qhull hulls, each drawn regular or
+// Shapes: boxes, cylinders, capsules, cones, ellipsoids, spheres, triangles and qhull hulls, each drawn regular or
 // degenerate (flat: a box with one extent 0 or 1e-9 of the others, an ellipsoid or a hull 1e-7 thick; needle: a
-// box, cylinder, cone, ellipsoid or hull 1e-7 wide or less, a capsule of radius 1e-9), B scaled by 10^k, k ∈ −6…6,
+// box, cylinder, cone, ellipsoid or hull 1e-7 wide or less, a capsule of radius 1e-9; a triangle 1e-9 wide or a
+// segment), B scaled by 10^k, k ∈ −6…6,
 // so size ratios reach 1e6 either way. Placements: random (up to 2 sizes apart, A up to 100 sizes from the
 // origin), touching (gap 0), near contact (±1e-9, ±1e-12 of the size), shallow (±1e-4, ±1e-2), nested (same
 // pose: the smaller inside the larger, or a needle through it) and coincident (the same shape at the same pose);
@@ -134,9 +135,12 @@ struct HullPool {
 
 template <class S> Vec3<S> v3(double x, double y, double z) { return Vec3<S>(S(x), S(y), S(z)); }
 
-/// The shape of class K from a draw, in scalar S (K: 0 box, 1 cylinder, 2 capsule, 3 cone, 4 ellipsoid, 5 sphere).
+/// The shape of class K from a draw, in scalar S (K: 0 box, 1 cylinder, 2 capsule, 3 cone, 4 ellipsoid, 5 sphere,
+/// 6 triangle: an isosceles one x long and 2y wide, a sliver or a segment when y is tiny or 0).
 template <int K, class S> auto make(const ShapeDraw& p) {
-    if constexpr (K == 0) return Box<S>(v3<S>(p.x, p.y, p.z));
+    if constexpr (K == 6)
+        return ConvexTriangle<S>(v3<S>(p.x, 0, 0), v3<S>(-0.5 * p.x, p.y, 0), v3<S>(-0.5 * p.x, -p.y, 0));
+    else if constexpr (K == 0) return Box<S>(v3<S>(p.x, p.y, p.z));
     else if constexpr (K == 1) return Cylinder<S>(S(p.x), S(p.z));
     else if constexpr (K == 2) return Capsule<S>(S(p.x), S(p.z));
     else if constexpr (K == 3) return Cone<S>(S(p.x), S(p.z));
@@ -157,6 +161,7 @@ inline ShapeDraw draw_extents(int kind, double s, std::mt19937_64& rng) {
         if (kind == 2) p.x = std::max(tiny, 1e-9) * s;        // capsule of radius 1e-9
         if (kind == 4) p.x = p.y = 1e-7 * s;                  // needle ellipsoid
     }
+    if (degenerate != 0 && kind == 6) p.y = tiny * s;         // a sliver triangle (a segment when 0)
     return p;
 }
 
@@ -178,6 +183,9 @@ inline std::string describe(const Ellipsoid<double>& s) {
            std::to_string(s.radii[2]);
 }
 inline std::string describe(const Sphere<double>& s) { return "sphere " + std::to_string(s.radius); }
+inline std::string describe(const ConvexTriangle<double>& s) {
+    return "triangle " + std::to_string(s.a[0]) + " x " + std::to_string(2 * s.b[1]);
+}
 inline std::string describe(const ConvexPolyhedron<double>& s) {
     return "hull of " + std::to_string(s.vertices().size()) + " vertices, radius " +
            std::to_string(s.bounding_radius());
@@ -396,13 +404,14 @@ void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Co
 
 /// The class pairs (−1: a hull): every class against a regular partner and against itself, hulls against all.
 using PairRun = void (*)(std::mt19937_64&, const HullPool&, Placement, Counts&);
-inline constexpr std::array<PairRun, 15> pair_runs = {
+inline constexpr std::array<PairRun, 18> pair_runs = {
     primitive_pair<0, 0>,  primitive_pair<0, 1>,   primitive_pair<1, 3>,   primitive_pair<2, 0>, primitive_pair<2, 2>,
     primitive_pair<3, 3>,  primitive_pair<4, 1>,   primitive_pair<4, 4>,   primitive_pair<5, 0>, primitive_pair<-1, -1>,
-    primitive_pair<-1, 0>, primitive_pair<3, -1>,  primitive_pair<-1, 4>,  primitive_pair<5, -1>, primitive_pair<-1, 2>};
-inline constexpr std::array<const char*, 15> pair_names = {
-    "box-box",  "box-cyl",  "cyl-cone",  "caps-box", "caps-caps", "cone-cone", "ell-cyl", "ell-ell",
-    "sph-box",  "hull-hull", "hull-box", "cone-hull", "hull-ell", "sph-hull",  "hull-caps"};
+    primitive_pair<-1, 0>, primitive_pair<3, -1>,  primitive_pair<-1, 4>,  primitive_pair<5, -1>, primitive_pair<-1, 2>,
+    primitive_pair<6, 6>,  primitive_pair<6, 0>,   primitive_pair<-1, 6>};
+inline constexpr std::array<const char*, 18> pair_names = {
+    "box-box",  "box-cyl",  "cyl-cone",  "caps-box", "caps-caps", "cone-cone", "ell-cyl", "ell-ell", "sph-box",
+    "hull-hull", "hull-box", "cone-hull", "hull-ell", "sph-hull",  "hull-caps", "tri-tri", "tri-box", "hull-tri"};
 
 /// `cases` seeded cases, cycling through the class pairs; counts per pair.
 inline std::array<Counts, pair_runs.size()> run_hard_cases(long cases, unsigned long seed) {
