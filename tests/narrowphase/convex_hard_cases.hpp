@@ -2,10 +2,11 @@
 // A seeded corpus of convex pairs that are hard on purpose, for issue 5's robustness count (the test
 // test_gjk_hard_cases.cpp and the benchmark cdkit_bench_convex_hard run the same generator).
 //
-// Shapes: boxes, cylinders, capsules, cones, ellipsoids, spheres, triangles and qhull hulls, each drawn regular or
-// degenerate (flat: a box with one extent 0 or 1e-9 of the others, an ellipsoid or a hull 1e-7 thick; needle: a
-// box, cylinder, cone, ellipsoid or hull 1e-7 wide or less, a capsule of radius 1e-9; a triangle 1e-9 wide or a
-// segment), B scaled by 10^k, k ∈ −6…6,
+// Shapes: boxes, cylinders, capsules, cones, ellipsoids, spheres, triangles, rounded boxes and qhull hulls, each
+// drawn regular or degenerate (flat: a box with one extent 0 or 1e-9 of the others, an ellipsoid or a hull 1e-7
+// thick; needle: a box, cylinder, cone, ellipsoid or hull 1e-7 wide or less, a capsule of radius 1e-9; a triangle
+// 1e-9 wide or a segment; a rounded box's box as a box's, its radius 1, 1e-3 or 1e-9 of its size), B scaled by
+// 10^k, k ∈ −6…6,
 // so size ratios reach 1e6 either way. Placements: random (up to 2 sizes apart, A up to 100 sizes from the
 // origin), touching (gap 0), near contact (±1e-9, ±1e-12 of the size), shallow (±1e-4, ±1e-2), nested (same
 // pose: the smaller inside the larger, or a needle through it) and coincident (the same shape at the same pose);
@@ -101,7 +102,20 @@ struct Counts {
 /// `make<K, long double>` build the same shape from them.
 struct ShapeDraw {
     double x = 0.1, y = 0.1, z = 0.1;
+    double r = 0;  ///< the rounding radius of a rounded box (class 7)
 };
+
+/// A box rounded by a radius, `Inflated<Box>`: the view holds a reference, so the box lives beside it (built in
+/// place by `make`, never copied; `shape_of` hands the view to the queries).
+template <class S> struct RoundedBox {
+    Box<S> core;
+    Inflated<Box<S>> shape;
+    RoundedBox(const Box<S>& b, S radius) : core(b), shape{core, radius} {}
+    RoundedBox(const RoundedBox&) = delete;
+    RoundedBox& operator=(const RoundedBox&) = delete;
+};
+template <class T> const T& shape_of(const T& s) { return s; }
+template <class S> const Inflated<Box<S>>& shape_of(const RoundedBox<S>& s) { return s.shape; }
 
 /// Hulls are built once (Qhull per case would dominate the run): regular, 1e-7 thin and 1e-7 needle, at every
 /// scale 10^k, k ∈ −6…6, in double and long double from the same points.
@@ -136,9 +150,10 @@ struct HullPool {
 template <class S> Vec3<S> v3(double x, double y, double z) { return Vec3<S>(S(x), S(y), S(z)); }
 
 /// The shape of class K from a draw, in scalar S (K: 0 box, 1 cylinder, 2 capsule, 3 cone, 4 ellipsoid, 5 sphere,
-/// 6 triangle: an isosceles one x long and 2y wide, a sliver or a segment when y is tiny or 0).
+/// 6 triangle: an isosceles one x long and 2y wide, a sliver or a segment when y is tiny or 0; 7 a box rounded by r).
 template <int K, class S> auto make(const ShapeDraw& p) {
-    if constexpr (K == 6)
+    if constexpr (K == 7) return RoundedBox<S>(Box<S>(v3<S>(p.x, p.y, p.z)), S(p.r));
+    else if constexpr (K == 6)
         return ConvexTriangle<S>(v3<S>(p.x, 0, 0), v3<S>(-0.5 * p.x, p.y, 0), v3<S>(-0.5 * p.x, -p.y, 0));
     else if constexpr (K == 0) return Box<S>(v3<S>(p.x, p.y, p.z));
     else if constexpr (K == 1) return Cylinder<S>(S(p.x), S(p.z));
@@ -162,6 +177,13 @@ inline ShapeDraw draw_extents(int kind, double s, std::mt19937_64& rng) {
         if (kind == 4) p.x = p.y = 1e-7 * s;                  // needle ellipsoid
     }
     if (degenerate != 0 && kind == 6) p.y = tiny * s;         // a sliver triangle (a segment when 0)
+    if (kind == 7) {  // a rounded box: the box as class 0's (flat: a coin; needle: a rounded segment), radius
+        // the box's size, a thousandth of it or 1e-9 of it
+        if (degenerate == 1) p.z = tiny * s;
+        if (degenerate == 2) p.x = p.y = tiny * s;
+        const double f[3] = {1.0, 1e-3, 1e-9};
+        p.r = u(rng) * s * f[std::uniform_int_distribution<int>(0, 2)(rng)];
+    }
     return p;
 }
 
@@ -183,6 +205,10 @@ inline std::string describe(const Ellipsoid<double>& s) {
            std::to_string(s.radii[2]);
 }
 inline std::string describe(const Sphere<double>& s) { return "sphere " + std::to_string(s.radius); }
+inline std::string describe(const Inflated<Box<double>>& s) {
+    return "rounded box " + std::to_string(s.shape.half[0]) + " " + std::to_string(s.shape.half[1]) + " " +
+           std::to_string(s.shape.half[2]) + " radius " + std::to_string(s.radius);
+}
 inline std::string describe(const ConvexTriangle<double>& s) {
     return "triangle " + std::to_string(s.a[0]) + " x " + std::to_string(2 * s.b[1]);
 }
@@ -387,31 +413,35 @@ void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Co
     } else if constexpr (KA < 0) {
         const int ia = hull_index(1.0);
         const ShapeDraw pb = draw_extents(KB, scale_b(), rng);
-        run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], make<KB, double>(pb), make<KB, LD>(pb),
+        run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], shape_of(make<KB, double>(pb)),
+                 shape_of(make<KB, LD>(pb)),
                  m == coincident ? nested : m, rng, c);
     } else if constexpr (KB < 0) {
         const ShapeDraw pa = draw_extents(KA, 1.0, rng);
         const int ib = hull_index(scale_b());
-        run_case(make<KA, double>(pa), make<KA, LD>(pa), hulls.d[std::size_t(ib)], hulls.l[std::size_t(ib)],
+        run_case(shape_of(make<KA, double>(pa)), shape_of(make<KA, LD>(pa)), hulls.d[std::size_t(ib)],
+                 hulls.l[std::size_t(ib)],
                  m == coincident ? nested : m, rng, c);
     } else {
         const ShapeDraw pa = draw_extents(KA, 1.0, rng);
         const ShapeDraw pb = (KA == KB && m == coincident) ? pa : draw_extents(KB, scale_b(), rng);
-        run_case(make<KA, double>(pa), make<KA, LD>(pa), make<KB, double>(pb), make<KB, LD>(pb),
+        run_case(shape_of(make<KA, double>(pa)), shape_of(make<KA, LD>(pa)), shape_of(make<KB, double>(pb)),
+                 shape_of(make<KB, LD>(pb)),
                  KA == KB ? m : (m == coincident ? nested : m), rng, c);
     }
 }
 
 /// The class pairs (−1: a hull): every class against a regular partner and against itself, hulls against all.
 using PairRun = void (*)(std::mt19937_64&, const HullPool&, Placement, Counts&);
-inline constexpr std::array<PairRun, 18> pair_runs = {
+inline constexpr std::array<PairRun, 20> pair_runs = {
     primitive_pair<0, 0>,  primitive_pair<0, 1>,   primitive_pair<1, 3>,   primitive_pair<2, 0>, primitive_pair<2, 2>,
     primitive_pair<3, 3>,  primitive_pair<4, 1>,   primitive_pair<4, 4>,   primitive_pair<5, 0>, primitive_pair<-1, -1>,
     primitive_pair<-1, 0>, primitive_pair<3, -1>,  primitive_pair<-1, 4>,  primitive_pair<5, -1>, primitive_pair<-1, 2>,
-    primitive_pair<6, 6>,  primitive_pair<6, 0>,   primitive_pair<-1, 6>};
-inline constexpr std::array<const char*, 18> pair_names = {
-    "box-box",  "box-cyl",  "cyl-cone",  "caps-box", "caps-caps", "cone-cone", "ell-cyl", "ell-ell", "sph-box",
-    "hull-hull", "hull-box", "cone-hull", "hull-ell", "sph-hull",  "hull-caps", "tri-tri", "tri-box", "hull-tri"};
+    primitive_pair<6, 6>,  primitive_pair<6, 0>,   primitive_pair<-1, 6>,  primitive_pair<7, 7>, primitive_pair<-1, 7>};
+inline constexpr std::array<const char*, 20> pair_names = {
+    "box-box",   "box-cyl",  "cyl-cone",  "caps-box", "caps-caps", "cone-cone", "ell-cyl",
+    "ell-ell",   "sph-box",  "hull-hull", "hull-box", "cone-hull", "hull-ell",  "sph-hull",
+    "hull-caps", "tri-tri",  "tri-box",   "hull-tri", "rbox-rbox", "hull-rbox"};
 
 /// `cases` seeded cases, cycling through the class pairs; counts per pair.
 inline std::array<Counts, pair_runs.size()> run_hard_cases(long cases, unsigned long seed) {
