@@ -275,41 +275,11 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
             return r.normal.allFinite() && r.point_a.allFinite() && r.point_b.allFinite();
         return true;
     };
-    auto allowed = [](const GjkResult<double>& r) {
-        return r.status == GjkStatus::separated || r.status == GjkStatus::touching ||
-               r.status == GjkStatus::intersecting;
-    };
-    const char* const query_names[4] = {"cold boolean", "warm boolean", "distance", "warm distance"};
-    int q = 0;
-    for (const auto* r : {&cold, &warm, &dist, &warm_dist}) {
-        const long before = c.failures();
-        c.nonfinite += !finite(*r);
-        c.bad_status += !allowed(*r);
-        if (decisive && r->colliding() != ref_overlap) {
-            if (q >= 2) ++c.wrong_distance_status;  // the two distance queries
-            else ++c.wrong_boolean;
-        }
-        if (c.failures() > before && c.described < 12) {
-            char line[320];
-            std::snprintf(line, sizeof line,
-                          "  failure: %s, %s placement, size %.3g, |t_a| %.3g: status %d distance %.17g it %d; "
-                          "long double status %d distance %.17Lg; ",
-                          query_names[q], placement_names[m], size, pa.t.norm(), int(r->status), r->distance,
-                          r->iterations, int(ref.status), ref.distance);
-            c.first_failures += line + describe(a) + " / " + describe(b) + "\n";
-            ++c.described;
-        }
-        ++q;
-    }
-    // The separating plane and, for two hulls, the closest-feature walk: cold, and after a query at B moved half a
-    // size away along the centre line (a cached plane or feature pair from there, which near contact fails: then
-    // the walk, or GJK from the handed-over support pair).
-    Transform<double> pb_far = pb;
-    {
-        const Vec3<double> away = pb.t - pa.t;
-        pb_far.t += 0.5 * size * (away.squaredNorm() > 0 ? Vec3<double>(away.normalized()) : Vec3<double>::UnitX());
-    }
-    auto judge = [&](const char* name, bool finite_values, GjkStatus st, bool colliding, bool distance_query) {
+    // One query's verdict: finite numbers, a status a query may give on finite shapes, and where long double is
+    // decisive the same overlap answer (boolean queries count as wrong booleans, distance queries as wrong
+    // distance statuses); the first dozen failures are described.
+    auto judge = [&](const char* name, bool finite_values, GjkStatus st, bool colliding, bool distance_query,
+                     double distance, int iterations) {
         const long before = c.failures();
         c.nonfinite += !finite_values;
         c.bad_status += !(st == GjkStatus::separated || st == GjkStatus::touching || st == GjkStatus::intersecting);
@@ -320,14 +290,28 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
         if (c.failures() > before && c.described < 12) {
             char line[320];
             std::snprintf(line, sizeof line,
-                          "  failure: %s, %s placement, size %.3g, |t_a| %.3g: status %d colliding %d; long double "
-                          "status %d distance %.17Lg; ",
-                          name, placement_names[m], size, pa.t.norm(), int(st), int(colliding), int(ref.status),
-                          ref.distance);
+                          "  failure: %s, %s placement, size %.3g, |t_a| %.3g: status %d colliding %d distance %.17g "
+                          "it %d; long double status %d distance %.17Lg; ",
+                          name, placement_names[m], size, pa.t.norm(), int(st), int(colliding), distance, iterations,
+                          int(ref.status), ref.distance);
             c.first_failures += line + describe(a) + " / " + describe(b) + "\n";
             ++c.described;
         }
     };
+    const char* const query_names[4] = {"cold boolean", "warm boolean", "distance", "warm distance"};
+    int q = 0;
+    for (const auto* r : {&cold, &warm, &dist, &warm_dist}) {
+        judge(query_names[q], finite(*r), r->status, r->colliding(), q >= 2, r->distance, r->iterations);
+        ++q;
+    }
+    // The separating plane and, for two hulls, the closest-feature walk: cold, and after a query at B moved half a
+    // size away along the centre line (a cached plane or feature pair from there, which near contact fails: then
+    // the walk, or GJK from the handed-over support pair).
+    Transform<double> pb_far = pb;
+    {
+        const Vec3<double> away = pb.t - pa.t;
+        pb_far.t += 0.5 * size * (away.squaredNorm() > 0 ? Vec3<double>(away.normalized()) : Vec3<double>::UnitX());
+    }
     {
         SeparatingPlaneCache<double> fresh, moved;
         const auto cold_plane = separating_plane_intersect(a, pa, b, pb, fresh);
@@ -335,7 +319,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
         const auto warm_plane = separating_plane_intersect(a, pa, b, pb, moved);
         for (const auto* r : {&cold_plane, &warm_plane})
             judge(r == &cold_plane ? "separating plane" : "separating plane (cached)", true,
-                  r->used_gjk ? r->gjk_status : GjkStatus::separated, r->colliding, false);
+                  r->used_gjk ? r->gjk_status : GjkStatus::separated, r->colliding, false, 0.0, r->iterations);
     }
     if constexpr (std::is_same_v<A, ConvexPolyhedron<double>> && std::is_same_v<B, ConvexPolyhedron<double>>) {
         ClosestFeatureCache<double> moved;
@@ -346,7 +330,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
             const bool finite_values = std::isfinite(r->distance) && r->point_a.allFinite() &&
                                        r->point_b.allFinite() && r->normal.allFinite();
             judge(r == &cold_walk ? "closest features" : "closest features (cached)", finite_values, r->status,
-                  r->colliding(), true);
+                  r->colliding(), true, r->distance, r->iterations);
         }
     }
     // Separation distances against the certified interval (reported).
@@ -414,20 +398,17 @@ void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Co
         const int ia = hull_index(1.0);
         const ShapeDraw pb = draw_extents(KB, scale_b(), rng);
         run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], shape_of(make<KB, double>(pb)),
-                 shape_of(make<KB, LD>(pb)),
-                 m == coincident ? nested : m, rng, c);
+                 shape_of(make<KB, LD>(pb)), m == coincident ? nested : m, rng, c);
     } else if constexpr (KB < 0) {
         const ShapeDraw pa = draw_extents(KA, 1.0, rng);
         const int ib = hull_index(scale_b());
         run_case(shape_of(make<KA, double>(pa)), shape_of(make<KA, LD>(pa)), hulls.d[std::size_t(ib)],
-                 hulls.l[std::size_t(ib)],
-                 m == coincident ? nested : m, rng, c);
+                 hulls.l[std::size_t(ib)], m == coincident ? nested : m, rng, c);
     } else {
         const ShapeDraw pa = draw_extents(KA, 1.0, rng);
         const ShapeDraw pb = (KA == KB && m == coincident) ? pa : draw_extents(KB, scale_b(), rng);
         run_case(shape_of(make<KA, double>(pa)), shape_of(make<KA, LD>(pa)), shape_of(make<KB, double>(pb)),
-                 shape_of(make<KB, LD>(pb)),
-                 KA == KB ? m : (m == coincident ? nested : m), rng, c);
+                 shape_of(make<KB, LD>(pb)), KA == KB ? m : (m == coincident ? nested : m), rng, c);
     }
 }
 
