@@ -1,6 +1,7 @@
 #pragma once
 /// \file Umbrella header: everything a user of cdkit needs.
 
+#include "cdkit/core/contact_mode.hpp"
 #include "cdkit/core/error.hpp"
 #include "cdkit/core/math.hpp"
 #include "cdkit/core/mesh.hpp"
@@ -39,6 +40,10 @@
 #include "cdkit/narrowphase/triangle_distance.hpp"
 #include "cdkit/distance.hpp"
 #include "cdkit/query.hpp"
+#include "cdkit/ccd/ccd_result.hpp"
+#include "cdkit/ccd/deformable_ccd.hpp"
+#include "cdkit/ccd/edge_edge.hpp"
+#include "cdkit/ccd/vertex_face.hpp"
 #include "cdkit/ist/inner_sphere_tree.hpp"
 #include "cdkit/ist/intersection_volume.hpp"
 #include "cdkit/ist/ist_query.hpp"

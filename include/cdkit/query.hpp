@@ -6,6 +6,7 @@
 /// Queries are const and thread-safe: any number of threads may query the same models at once.
 
 #include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/core/contact_mode.hpp"
 #include "cdkit/bvh/traverse.hpp"
 #include "cdkit/narrowphase/triangle.hpp"
 
@@ -14,11 +15,6 @@
 #include <vector>
 
 namespace cdkit {
-
-enum class ContactMode {
-    first,  ///< stop at the first intersecting triangle pair (a witness)
-    all,    ///< every intersecting triangle pair with its intersection segment
-};
 
 struct CollisionRequest {
     ContactMode mode = ContactMode::first;

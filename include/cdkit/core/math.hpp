@@ -58,7 +58,8 @@ template <class S> struct Transform {
 /// rotation, and NaN would make every test false ("no collision").
 enum class QueryStatus {
     ok,
-    invalid_pose,  ///< a pose failed pose_is_usable(); the result holds no answer
+    invalid_pose,   ///< a pose failed pose_is_usable(); the result holds no answer
+    invalid_input,  ///< an input point, size or setting was NaN, infinite or out of range; no answer
 };
 
 /// The gate the queries apply: finite, and orthonormal with det +1 to within sqrt(eps) — loose enough for
