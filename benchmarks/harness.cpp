@@ -138,26 +138,40 @@ std::vector<PoseClass> p2_classes(Method& reference, const MeshInfo& mesh, std::
 // ---- measurement ----------------------------------------------------------------------------------
 
 struct Accumulator {
-    std::vector<double> us;
+    std::vector<double> us, first_us;
     std::size_t colliding = 0, contacts = 0, bool_dis = 0, count_mis = 0, probe_timed_mis = 0;
     std::uint64_t bv = 0, tri = 0;
     bool has_bv = true, has_tri = true;
 };
 
-/// Times one pose after its untimed probe (which also warmed the caches): a batch of k repeats, k chosen
-/// from the probe's duration so that the batch lasts about `target_s` (k = 1 for slow queries), which
-/// swamps the clock's own cost. The sample is the batch's mean per query, in µs; with several batches,
-/// the fastest batch's (a batch hit by preemption on a busy machine is then discarded).
-double time_pose(Method& m, const Pose& pose, Mode mode, double target_s, std::size_t batches, double probe_s,
-                 const Outcome& probe, Accumulator& acc) {
-    const double est = std::max(probe_s, 1e-9);
-    const std::size_t k = std::size_t(std::clamp(std::ceil(target_s / est), 1.0, double(1 << 22)));
+/// Times one pose of one method: the fastest batch's mean per query, in µs (a batch hit by preemption is
+/// discarded). `first_s` was the pose's first call, and the untimed probe ran after it; neither warms FCL up
+/// (its first call at a pose takes 2.3× its steady time, its probe is another code path, and it settles
+/// after 3–4 repeats: docs/benchmarks.md, "Warm batches"). So `warmup` untimed calls come next, the last
+/// sizing the batches: ≥ `min_batch_us` and, for shorter queries, ≥ `min_reps` calls. A query of ≥ 50 µs
+/// needs no sizing: its first batch is its warm-up. A slow query (`slow`: this method's last sample took ≥
+/// `slow_query_us`; `first_s` < 0 then, as its first call was skipped) gets one call after the probe, as
+/// before issue 39: cold misses are a small share of it, and repeats would dominate the run time.
+double time_pose(Method& m, const Pose& pose, Mode mode, const Options& opt, double first_s, const Outcome& probe,
+                 Accumulator& acc, bool& slow) {
+    const double target_s = opt.min_batch_us * 1e-6, slow_s = opt.slow_query_us * 1e-6;
+    std::size_t k = 1, batches = std::max<std::size_t>(opt.batches, 1);
+    if (slow || first_s >= slow_s) {
+        batches = 1;
+    } else if (first_s < target_s) {
+        double est = first_s;
+        for (std::size_t w = 0; w < opt.warmup; ++w) est = m.time(pose, mode, 1).seconds;
+        est = std::max(est, 1e-9);
+        k = std::size_t(std::clamp(std::ceil(target_s / est), 1.0, double(1 << 22)));
+        if (est < target_s) k = std::max(k, opt.min_reps);
+    }
     double best = std::numeric_limits<double>::infinity();
-    for (std::size_t b = 0; b < std::max<std::size_t>(batches, 1); ++b) {
+    for (std::size_t b = 0; b < batches; ++b) {
         const Timed t = m.time(pose, mode, k);
         if (t.colliding != probe.colliding || t.contacts != probe.contacts) ++acc.probe_timed_mis;
         best = std::min(best, t.seconds);
     }
+    slow = best / double(k) >= slow_s;
     return best / double(k) * 1e6;
 }
 
@@ -204,13 +218,13 @@ std::string disagreement_kind(const std::vector<std::unique_ptr<Method>>& method
 void measure(const Options& opt, const MeshInfo& mesh, std::vector<std::unique_ptr<Method>>& methods,
              const std::string& protocol, const std::string& distance_kind, const std::vector<PoseClass>& classes,
              Report& report) {
-    const double target_s = opt.min_batch_us * 1e-6;
     const bool tty = isatty(fileno(stderr));
     std::size_t peer = methods.size();
     for (std::size_t i = 0; i < methods.size(); ++i)
         if (methods[i]->name() == report.peer) peer = i;
     for (Mode mode : opt.modes) {
         const auto t_mode = Clock::now();
+        std::vector<bool> slow(methods.size(), false);  // the method's last sample took >= slow_query_us
         for (std::size_t ci = 0; ci < classes.size(); ++ci) {
             const PoseClass& cls = classes[ci];
             if (!opt.quiet && tty)
@@ -224,10 +238,17 @@ void measure(const Options& opt, const MeshInfo& mesh, std::vector<std::unique_p
                 // Methods interleaved pose by pose, so that a burst of noise on a shared machine hits all alike.
                 for (std::size_t m = 0; m < methods.size(); ++m) {
                     Accumulator& a = acc[m];
-                    const auto t0 = Clock::now();
+                    // The pose's first call, cold; skipped for slow methods (it would be a third call of ms).
+                    const bool was_slow = slow[m];
+                    const Timed first = was_slow ? Timed{-1} : methods[m]->time(pose, mode, 1);
                     ans[m] = methods[m]->probe(pose, mode);
-                    const double probe_s = seconds_since(t0);
-                    a.us.push_back(time_pose(*methods[m], pose, mode, target_s, opt.batches, probe_s, ans[m], a));
+                    if (!was_slow) {
+                        if (first.colliding != ans[m].colliding || first.contacts != ans[m].contacts) ++a.probe_timed_mis;
+                        a.first_us.push_back(first.seconds * 1e6);
+                    }
+                    bool is_slow = was_slow;
+                    a.us.push_back(time_pose(*methods[m], pose, mode, opt, first.seconds, ans[m], a, is_slow));
+                    slow[m] = is_slow;
                     a.colliding += ans[m].colliding;
                     a.contacts += ans[m].contacts;
                     if (ans[m].bv_tests) a.bv += *ans[m].bv_tests; else a.has_bv = false;
@@ -243,6 +264,7 @@ void measure(const Options& opt, const MeshInfo& mesh, std::vector<std::unique_p
                 Accumulator& a = acc[m];
                 const double n = double(a.us.size());
                 std::sort(a.us.begin(), a.us.end());
+                std::sort(a.first_us.begin(), a.first_us.end());
                 ResultRow r;
                 r.mesh = mesh.name;
                 r.triangles = mesh.triangles;
@@ -260,6 +282,7 @@ void measure(const Options& opt, const MeshInfo& mesh, std::vector<std::unique_p
                 r.p99_us = quantile(a.us, 0.99);
                 r.max_us = a.us.back();
                 r.min_us = a.us.front();
+                r.first_call_median_us = a.first_us.empty() ? -1 : quantile(a.first_us, 0.5);
                 r.frac_colliding = double(a.colliding) / n;
                 r.bv_tests_mean = a.has_bv ? double(a.bv) / n : -1;
                 r.tri_tests_mean = a.has_tri ? double(a.tri) / n : -1;

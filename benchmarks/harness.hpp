@@ -22,7 +22,10 @@ struct Options {
     std::size_t steps = 200;       ///< P1: poses per distance (one tumbling turn)
     std::size_t rotations = 100;   ///< P2: random rotations (each with its own direction)
     double min_batch_us = 50;      ///< a pose's timed batch repeats the query until it lasts this long
-    std::size_t batches = 1;       ///< timed batches per pose; the sample is the fastest (filters preemption)
+    std::size_t min_reps = 8;      ///< ... and at least this often (queries shorter than min_batch_us)
+    std::size_t batches = 3;       ///< timed batches per pose; the sample is the fastest (filters preemption)
+    std::size_t warmup = 1;        ///< untimed queries right before the batches; the last sizes them
+    double slow_query_us = 500;    ///< a query this slow is timed once after its probe, no first call
     std::uint64_t seed = 1;
     std::string split = "sah";  ///< cdkit build: median | mean | sah | pca_volume (the library default: sah)
     std::string out_dir = "build/report";
@@ -53,6 +56,7 @@ struct ResultRow {
     double distance = 0;
     std::size_t poses = 0;
     double mean_us = 0, median_us = 0, p99_us = 0, max_us = 0, min_us = 0;
+    double first_call_median_us = 0;  ///< median of each pose's first, cold call (−1: slow method, not timed)
     double frac_colliding = 0;
     double bv_tests_mean = -1, tri_tests_mean = -1;  ///< −1: the method does not count them
     double contacts_mean = 0;

@@ -9,6 +9,7 @@
 #include "cdkit/core/error.hpp"
 
 #include <glob.h>
+#include <sched.h>  // sched_getcpu
 #include <string.h>  // strverscmp (GNU)
 
 #include <algorithm>
@@ -55,8 +56,13 @@ Times cdkit's mesh-mesh collision queries against FCL's, in one process on ident
                       is always measured
   --list-methods      print the method names and exit
   --min-batch-us X    repeat each pose's query until the batch lasts X us (default 50)
-  --batches B         timed batches per pose, the fastest kept (default 1; 3 filters preemption
-                      on a busy machine; roughly doubles the run time)
+  --min-reps N        ... and at least N times, for queries shorter than X us (default 8)
+  --batches B         timed batches per pose, the fastest kept (default 3: filters preemption)
+  --warmup W          untimed calls of the timed query before the batches, the last one sizing
+                      them (default 1; with 0 the pose's cold first call sizes them; --warmup 0
+                      --min-reps 1 --batches 1 is close to the measurement before issue 39)
+  --slow-query-us X   a method whose last query took >= X us is timed by one call after the
+                      probe, as before issue 39, and its first call is not timed (default 500)
   --seed S            P2's random rotations and directions (default 1)
   --split median|mean|sah|pca_volume  cdkit tree build split (default sah, the library's; FCL splits at the mean)
   --out DIR           output directory for results.{csv,json}, builds.csv, correctness.csv,
@@ -172,8 +178,15 @@ std::optional<Options> parse(int argc, char** argv) {
             o.method_patterns = split(value());
         } else if (a == "--min-batch-us") {
             o.min_batch_us = to_number(a, value());
+        } else if (a == "--min-reps") {
+            o.min_reps = to_count(a, value());
         } else if (a == "--batches") {
             o.batches = to_count(a, value());
+        } else if (a == "--warmup") {
+            const std::string v = value();
+            o.warmup = v == "0" ? 0 : to_count(a, v);
+        } else if (a == "--slow-query-us") {
+            o.slow_query_us = to_number(a, value());
         } else if (a == "--seed") {
             o.seed = to_count(a, value());
         } else if (a == "--split") {
@@ -213,17 +226,19 @@ int main(int argc, char** argv) {
         report.options = *opt;
         report.machine = cdbench::machine_info();
         const auto& m = report.machine;
-        std::printf("cdkit_bench: %s, %s cores; %s; build %s; FCL %s; %s\n", m.at("cpu").c_str(), m.at("cores").c_str(),
-                    m.at("compiler").c_str(), m.at("build_type").c_str(), m.at("fcl_version").c_str(),
-                    m.at("date").c_str());
-        std::printf("size %s: P1 %zu steps per d, P2 %zu rotations; batches >= %.0f us (%zu per pose, fastest "
-                    "kept); seed %llu\n", opt->size.c_str(), opt->steps, opt->rotations, opt->min_batch_us,
-                    opt->batches, static_cast<unsigned long long>(opt->seed));
+        std::printf("cdkit_bench: %s, %s cores (on CPU %s); %s; build %s; FCL %s; %s\n", m.at("cpu").c_str(),
+                    m.at("cores").c_str(), m.at("cpu_index_start").c_str(), m.at("compiler").c_str(),
+                    m.at("build_type").c_str(), m.at("fcl_version").c_str(), m.at("date").c_str());
+        std::printf("size %s: P1 %zu steps per d, P2 %zu rotations; %zu warm-up call(s), then batches >= %.0f us "
+                    "and >= %zu queries (%zu per pose, fastest kept; one call after the probe above %.0f us); seed %llu\n",
+                    opt->size.c_str(), opt->steps, opt->rotations, opt->warmup, opt->min_batch_us, opt->min_reps,
+                    opt->batches, opt->slow_query_us, static_cast<unsigned long long>(opt->seed));
 #ifndef NDEBUG
         std::printf("WARNING: assertions are on (not a Release build): timings are not representative\n");
 #endif
         std::fflush(stdout);
         cdbench::run_all(*opt, report);
+        report.machine["cpu_index_end"] = std::to_string(sched_getcpu());
         report.machine["loadavg_end"] = [] {
             std::FILE* f = std::fopen("/proc/loadavg", "r");
             char b[128] = {};

@@ -4,6 +4,7 @@
 
 #include "peers_fcl.hpp"
 
+#include <sched.h>
 #include <sys/utsname.h>
 
 #include <algorithm>
@@ -154,6 +155,8 @@ std::map<std::string, std::string> machine_info() {
     m["cpu"] = first_line_with("/proc/cpuinfo", "model name");
     m["cores"] = std::to_string(std::thread::hardware_concurrency());
     m["loadavg_start"] = read_all("/proc/loadavg");
+    // This VM's two vCPUs differ, and FCL slows more than cdkit on the slow one (docs/benchmarks.md).
+    m["cpu_index_start"] = std::to_string(sched_getcpu());
 #if defined(__clang__)
     m["compiler"] = std::string("Clang ") + __clang_version__;
 #elif defined(__GNUC__)
@@ -256,7 +259,7 @@ std::vector<std::string> write_outputs(const Report& r) {
         f << "mesh,triangles,protocol,mode,distance_kind,distance,method,family,poses,mean_us,median_us,p99_us,"
              "max_us,min_us,frac_colliding,bv_tests_mean,tri_tests_mean,contacts_mean,bool_disagreements,"
              "contact_mismatches,probe_timed_mismatches,ratio_vs_"
-          << r.peer << "\n";
+          << r.peer << ",first_call_median_us\n";
         for (const ResultRow& x : r.rows)
             f << csv_escape(x.mesh) << ',' << x.triangles << ',' << x.protocol << ',' << x.mode << ','
               << x.distance_kind << ',' << num(x.distance, "%.4f") << ',' << x.method << ',' << x.family << ','
@@ -264,7 +267,8 @@ std::vector<std::string> write_outputs(const Report& r) {
               << num(x.max_us) << ',' << num(x.min_us) << ',' << num(x.frac_colliding, "%.4f") << ','
               << opt_num(x.bv_tests_mean, "%.1f") << ',' << opt_num(x.tri_tests_mean, "%.1f") << ','
               << num(x.contacts_mean, "%.2f") << ',' << x.bool_disagreements << ',' << x.contact_mismatches << ','
-              << x.probe_timed_mismatches << ',' << opt_num(x.ratio_vs_peer, "%.4f") << "\n";
+              << x.probe_timed_mismatches << ',' << opt_num(x.ratio_vs_peer, "%.4f") << ','
+              << opt_num(x.first_call_median_us) << "\n";
     }
     {
         auto f = open(dir / "builds.csv", written);
@@ -316,6 +320,8 @@ std::vector<std::string> write_outputs(const Report& r) {
         for (const auto& [k, v] : r.machine) f << (first ? "" : ",") << "\n    " << json_str(k) << ": " << json_str(v), first = false;
         f << "\n  },\n  \"config\": {\"size\": " << json_str(o.size) << ", \"steps\": " << o.steps
           << ", \"rotations\": " << o.rotations << ", \"min_batch_us\": " << json_num(o.min_batch_us) << ", \"batches\": " << o.batches
+          << ", \"min_reps\": " << o.min_reps << ", \"warmup\": " << o.warmup
+          << ", \"slow_query_us\": " << json_num(o.slow_query_us)
           << ", \"seed\": " << o.seed << ", \"split\": " << json_str(o.split) << ", \"protocols\": [";
         for (std::size_t i = 0; i < o.protocols.size(); ++i) f << (i ? ", " : "") << json_str(o.protocols[i]);
         f << "], \"modes\": [";
@@ -357,6 +363,7 @@ std::vector<std::string> write_outputs(const Report& r) {
               << ", \"poses\": " << x.poses << ", \"mean_us\": " << json_num(x.mean_us)
               << ", \"median_us\": " << json_num(x.median_us) << ", \"p99_us\": " << json_num(x.p99_us)
               << ", \"max_us\": " << json_num(x.max_us) << ", \"min_us\": " << json_num(x.min_us)
+              << ", \"first_call_median_us\": " << json_opt(x.first_call_median_us)
               << ", \"frac_colliding\": " << json_num(x.frac_colliding, "%.4f")
               << ", \"bv_tests_mean\": " << json_opt(x.bv_tests_mean) << ", \"tri_tests_mean\": "
               << json_opt(x.tri_tests_mean) << ", \"contacts_mean\": " << json_num(x.contacts_mean)
