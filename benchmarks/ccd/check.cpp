@@ -154,6 +154,16 @@ std::string first_line(const char* command) {
     return out.empty() ? "?" : out;
 }
 
+/// Provenance first, as comment lines: what ran, where, built how (scripts/render-results prints them).
+void write_provenance(std::FILE* out, int argc, char** argv) {
+    std::string command;
+    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+    std::fprintf(out, "# command: %s\n# machine: %s\n# compiler: %s\n# commit: %s\n# date: %s\n", command.c_str(),
+                 first_line("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2").c_str(), __VERSION__,
+                 first_line("git -C " CDKIT_SOURCE_DIR " rev-parse --short HEAD").c_str(),
+                 first_line("date -u +%Y-%m-%dT%H:%M:%SZ").c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -190,13 +200,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (csv_out) {
-        // Provenance first, as comment lines: what ran, where, built how (scripts/render-results skips them).
-        std::string command;
-        for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
-        std::fprintf(csv_out, "# command: %s\n# machine: %s\n# compiler: %s\n# commit: %s\n# date: %s\n",
-                     command.c_str(), first_line("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2").c_str(),
-                     __VERSION__, first_line("git -C " CDKIT_SOURCE_DIR " rev-parse --short HEAD").c_str(),
-                     first_line("date -u +%Y-%m-%dT%H:%M:%SZ").c_str());
+        write_provenance(csv_out, argc, argv);
         std::fprintf(csv_out, "file,kind,queries,positives,false_negatives,false_positives,capped,median_us,p99_us,max_us\n");
     }
     std::printf("tolerance %g, min separation %g, max boxes %u\n", req.tolerance, req.min_separation, req.max_boxes);
@@ -242,6 +246,7 @@ int main(int argc, char** argv) {
     if (!scenes.empty()) {
         std::FILE* scene_csv = nullptr;
         if (!csv.empty()) scene_csv = std::fopen((csv.substr(0, csv.rfind('.')) + "_scenes.csv").c_str(), "w");
+        if (scene_csv) write_provenance(scene_csv, argc, argv);
         try {
             missed = check_scenes(scenes, req, scene_csv);
         } catch (const std::exception& e) {
