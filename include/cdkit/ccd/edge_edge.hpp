@@ -16,21 +16,9 @@ namespace cdkit {
                                             const Vec3<double>& a0_t1, const Vec3<double>& a1_t1,
                                             const Vec3<double>& b0_t1, const Vec3<double>& b1_t1,
                                             const CcdRequest& request = {}) {
-    CcdResult out;
-    const detail::CcdPoints pts{&a0_t0, &a1_t0, &b0_t0, &b1_t0, &a0_t1, &a1_t1, &b0_t1, &b1_t1};
-    if (!detail::ccd_points_finite(pts) || !detail::ccd_request_is_valid(request)) {
-        out.status = QueryStatus::invalid_input;
-        return out;
-    }
-    // F = (a0 − b0) + u·(a1 − a0) + v·(b0 − b1) = (a0 + u(a1 − a0)) − (b0 + v(b1 − b0)).
-    const detail::GapFunction g = detail::make_gap_function(pts, {0, 2}, {1, 0}, {2, 3}, false);
-    detail::inclusion_search(g, request, out);
-    if (out.colliding) {
-        const Vec3<double> a0 = detail::lerp_point(a0_t0, a0_t1, out.toi);
-        out.point = a0 + out.u * (detail::lerp_point(a1_t0, a1_t1, out.toi) - a0);
-        out.normal = detail::ccd_normal(g, out);
-    }
-    return out;
+    // F = (a0 − b0) + u·(a1 − a0) + v·(b0 − b1) = (a0 + u(a1 − a0)) − (b0 + v(b1 − b0)); the point is on edge A.
+    return detail::primitive_ccd({&a0_t0, &a1_t0, &b0_t0, &b1_t0, &a0_t1, &a1_t1, &b0_t1, &b1_t1}, {0, 2}, {1, 0},
+                                 {2, 3}, false, {0, 1, -1}, request);
 }
 
 }  // namespace cdkit

@@ -17,22 +17,9 @@ namespace cdkit {
                                               const Vec3<double>& p_t1, const Vec3<double>& a_t1,
                                               const Vec3<double>& b_t1, const Vec3<double>& c_t1,
                                               const CcdRequest& request = {}) {
-    CcdResult out;
-    const detail::CcdPoints pts{&p_t0, &a_t0, &b_t0, &c_t0, &p_t1, &a_t1, &b_t1, &c_t1};
-    if (!detail::ccd_points_finite(pts) || !detail::ccd_request_is_valid(request)) {
-        out.status = QueryStatus::invalid_input;
-        return out;
-    }
-    // F = (p − a) + u·(a − b) + v·(a − c) = p − (a + u(b − a) + v(c − a)).
-    const detail::GapFunction g = detail::make_gap_function(pts, {0, 1}, {1, 2}, {1, 3}, true);
-    detail::inclusion_search(g, request, out);
-    if (out.colliding) {
-        const double t = out.toi;
-        const Vec3<double> a = detail::lerp_point(a_t0, a_t1, t);
-        out.point = a + out.u * (detail::lerp_point(b_t0, b_t1, t) - a) + out.v * (detail::lerp_point(c_t0, c_t1, t) - a);
-        out.normal = detail::ccd_normal(g, out);
-    }
-    return out;
+    // F = (p − a) + u·(a − b) + v·(a − c) = p − (a + u(b − a) + v(c − a)); the contact point is on the face.
+    return detail::primitive_ccd({&p_t0, &a_t0, &b_t0, &c_t0, &p_t1, &a_t1, &b_t1, &c_t1}, {0, 1}, {1, 2}, {1, 3}, true,
+                                 {1, 2, 3}, request);
 }
 
 }  // namespace cdkit

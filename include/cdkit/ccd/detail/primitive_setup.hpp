@@ -70,4 +70,27 @@ struct GapAt {
     return p0 + t * (p1 - p0);
 }
 
+/// The whole primitive query: input check, F = B + u·E1 + v·E2 from the given point pairs, the search, then the
+/// contact point (on the face, or on edge A: points p[i] + u·(p[j] − p[i]) + v·(p[k] − p[i]) at t = toi, with
+/// `point_terms` = {i, j, k}; k < 0 for none) and normal.
+[[nodiscard]] inline CcdResult primitive_ccd(const CcdPoints& pts, std::array<int, 2> b, std::array<int, 2> e1,
+                                             std::array<int, 2> e2, bool triangle_domain, std::array<int, 3> point_terms,
+                                             const CcdRequest& request) {
+    CcdResult out;
+    if (!ccd_points_finite(pts) || !ccd_request_is_valid(request)) {
+        out.status = QueryStatus::invalid_input;
+        return out;
+    }
+    const GapFunction g = make_gap_function(pts, b, e1, e2, triangle_domain);
+    inclusion_search(g, request, out);
+    if (out.colliding) {
+        auto at = [&](int i) { return lerp_point(*pts[i], *pts[i + 4], out.toi); };
+        const Vec3<double> base = at(point_terms[0]);
+        out.point = base + out.u * (at(point_terms[1]) - base);
+        if (point_terms[2] >= 0) out.point += out.v * (at(point_terms[2]) - base);
+        out.normal = ccd_normal(g, out);
+    }
+    return out;
+}
+
 }  // namespace cdkit::detail
