@@ -1,0 +1,123 @@
+#pragma once
+/// \file Time of impact of two convex shapes moving with constant linear and angular velocity over a step:
+/// conservative advancement (B. Mirtich, "Impulse-based Dynamic Simulation of Rigid Body Systems", PhD thesis,
+/// UC Berkeley 1996; the bound on the approach speed as in M. Tang, Y. J. Kim, D. Manocha, "C2A: Controlled
+/// Conservative Advancement for Continuous Collision Detection of Polygonal Models", ICRA 2009).
+///
+/// Each shape's pose moves from `start` to `end`: its origin on a straight line, its rotation about one fixed
+/// axis of its own frame at a constant rate (R(t) = R0·exp(t·log(R0ᵀR1))). At time t GJK gives the distance d and
+/// the direction n from A to B. No point of A gains on B along n faster than
+///     μ = max(0, (v_A − v_B)·n) + |ω_A|·r_A + |ω_B|·r_B
+/// (v the origins' velocities, ω the angular velocities, r each shape's radius about its origin), and the
+/// distance is at least the gap along n, so the shapes cannot touch before t + d/μ: the query advances to there
+/// and repeats, and reports contact when d falls to the tolerance. Every step is a lower bound, so a contact is
+/// never skipped, whatever the shapes' sizes or speeds (only GJK's distance must be right, which it certifies).
+/// A pure translation (equal rotations at both ends) is the shape cast.
+
+#include "cdkit/narrowphase/gjk.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdkit {
+
+struct ToiRequest {
+    double tolerance = 1e-6;   ///< contact when the distance falls to this (absolute, > 0)
+    int max_iterations = 512;  ///< advancement steps before the query gives up (then `capped`, contact assumed)
+};
+
+struct ToiResult {
+    QueryStatus status = QueryStatus::ok;  ///< invalid_pose: a pose is not a rigid motion; invalid_input: settings
+    bool colliding = false;                ///< the shapes come within `tolerance` during [0, 1]
+    double toi = 1;  ///< no contact before this time (the advancement never passes one); 1 when none
+    Vec3<double> point_a = Vec3<double>::Zero(), point_b = Vec3<double>::Zero();  ///< closest points at toi (world)
+    Vec3<double> normal = Vec3<double>::Zero();  ///< unit direction from A to B at toi
+    int iterations = 0;                          ///< advancement steps (one GJK distance each)
+    bool capped = false;                         ///< max_iterations reached: `colliding` is the conservative answer
+};
+
+namespace detail {
+
+/// Radius of a shape about its own origin: the corner of its local bounding box farthest from the origin (six
+/// support calls; the shape lies in that box, so the radius is an upper bound).
+template <SupportMapped A> [[nodiscard]] double radius_about_origin(const A& shape) noexcept {
+    Vec3<double> far = Vec3<double>::Zero();
+    for (int k = 0; k < 3; ++k) {
+        Vec3<double> d = Vec3<double>::Zero();
+        d[k] = 1;
+        far[k] = std::max(std::abs(double(shape.support(d.cast<typename A::Scalar>())[k])),
+                          std::abs(double(shape.support((-d).cast<typename A::Scalar>())[k])));
+    }
+    return far.norm() * (1 + 1e-12);
+}
+
+/// A pose moving with constant velocities between two poses.
+struct PoseMotion {
+    Transform<double> start;
+    Vec3<double> velocity;  ///< of the origin, per unit of t
+    Vec3<double> axis;      ///< rotation axis in the shape's frame (unit)
+    double angle = 0;       ///< rotation over the step (|ω|)
+    PoseMotion(const Transform<double>& s, const Transform<double>& e) : start(s), velocity(e.t - s.t) {
+        const Eigen::AngleAxisd aa(Mat3<double>(s.R.transpose() * e.R));
+        axis = aa.axis();
+        angle = std::abs(aa.angle());
+        if (aa.angle() < 0) axis = -axis;
+    }
+    [[nodiscard]] Transform<double> at(double t) const {
+        return {start.R * Eigen::AngleAxisd(t * angle, axis).toRotationMatrix(), start.t + t * velocity};
+    }
+};
+
+}  // namespace detail
+
+/// First time in [0, 1] at which `a` (moving from pose a_start to a_end) and `b` (b_start to b_end) come within
+/// request.tolerance, by conservative advancement on GJK distance with a warm-started cache. Const, thread-safe.
+template <SupportMapped A, SupportMapped B>
+    requires std::same_as<typename A::Scalar, double> && std::same_as<typename B::Scalar, double>
+[[nodiscard]] ToiResult convex_toi(const A& a, const Transform<double>& a_start, const Transform<double>& a_end,
+                                   const B& b, const Transform<double>& b_start, const Transform<double>& b_end,
+                                   const ToiRequest& request = {}) {
+    ToiResult out;
+    for (const auto* p : {&a_start, &a_end, &b_start, &b_end})
+        if (!pose_is_usable(*p)) {
+            out.status = QueryStatus::invalid_pose;
+            return out;
+        }
+    if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.max_iterations < 1) {
+        out.status = QueryStatus::invalid_input;
+        return out;
+    }
+    const detail::PoseMotion ma(a_start, a_end), mb(b_start, b_end);
+    const double spin = ma.angle * detail::radius_about_origin(a) + mb.angle * detail::radius_about_origin(b);
+    GjkCache<double> cache;
+    double t = 0;
+    for (out.iterations = 1; out.iterations <= request.max_iterations; ++out.iterations) {
+        const Transform<double> pa = ma.at(t), pb = mb.at(t);
+        const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
+        out.point_a = g.point_a, out.point_b = g.point_b, out.normal = g.normal;
+        out.toi = t;
+        if (g.colliding() || g.status == GjkStatus::max_iterations || g.status == GjkStatus::degenerate ||
+            g.distance <= request.tolerance) {
+            // Contact (or a GJK that could not certify a separation: conservative).
+            out.colliding = true;
+            return out;
+        }
+        // GJK's distance holds to its relative tolerance; the advancement uses a slightly smaller one.
+        const double d = g.distance * (1 - 1e-8) - request.tolerance * 0.5;
+        const double approach = std::max(0.0, (ma.velocity - mb.velocity).dot(g.normal)) + spin;
+        if (!(approach > 0)) {  // nothing gains on anything along n: the gap along n never closes
+            out.toi = 1;
+            return out;
+        }
+        t += d / approach;
+        if (t > 1) {
+            out.toi = 1;
+            return out;
+        }
+    }
+    out.capped = true;
+    out.colliding = true;
+    return out;
+}
+
+}  // namespace cdkit

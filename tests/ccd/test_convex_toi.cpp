@@ -1,0 +1,95 @@
+// Convex time of impact by conservative advancement: an answer known in closed form (spheres head-on), and fast
+// seeded pairs of every size ratio against a dense sampling of the motion with GJK's boolean (the sampled first
+// contact can only come at or after the true one, so the advancement must not report a later time).
+
+#include "mesh_factory.hpp"
+#include "test_common.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cdkit/ccd/convex_toi.hpp>
+#include <cdkit/narrowphase/convex_shapes.hpp>
+
+namespace {
+
+using V = cdkit::Vec3<double>;
+using T = cdkit::Transform<double>;
+
+/// First of `n` + 1 evenly spaced times at which GJK's boolean says the shapes meet (or 2 when never).
+template <class A, class B>
+double sampled_first_contact(const A& a, const T& a0, const T& a1, const B& b, const T& b0, const T& b1, int n) {
+    const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
+    for (int i = 0; i <= n; ++i) {
+        const double t = double(i) / n;
+        if (cdkit::gjk_intersect(a, ma.at(t), b, mb.at(t)).colliding()) return t;
+    }
+    return 2;
+}
+
+}  // namespace
+
+TEST_CASE("convex TOI: spheres head-on, known in closed form", "[ccd]") {
+    const cdkit::Sphere<double> a(0.5), b(0.25);
+    // A's centre from x = −10 to x = 10, B at rest at x = 2: contact when the gap 2 − x equals 0.75, at x = 1.25,
+    // t = 11.25 / 20.
+    const auto r = cdkit::convex_toi(a, T::translation(V(-10, 0, 0)), T::translation(V(10, 0, 0)), b,
+                                     T::translation(V(2, 0, 0)), T::translation(V(2, 0, 0)));
+    REQUIRE(r.status == cdkit::QueryStatus::ok);
+    REQUIRE(r.colliding);
+    CHECK(r.toi <= 11.25 / 20);
+    CHECK(r.toi >= 11.25 / 20 - 1e-6);
+    CHECK(r.normal.isApprox(V(1, 0, 0), 1e-6));
+    // Passing by at a gap: no contact.
+    CHECK_FALSE(cdkit::convex_toi(a, T::translation(V(-10, 1, 0)), T::translation(V(10, 1, 0)), b,
+                                  T::translation(V(2, 0, 0)), T::translation(V(2, 0, 0)))
+                    .colliding);
+}
+
+TEST_CASE("convex TOI: fast pairs of every size ratio never tunnel", "[ccd]") {
+    std::mt19937_64 rng(34);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const int n = cdkit::test::scaled(600, 60);
+    int contacts = 0, sampled = 0;
+    for (int i = 0; i < n; ++i) {
+        // Sizes from 1e-3 to 1e3 (log-uniform), speeds up to 100 of the smaller size per step, rotations up to π.
+        const double sa = std::pow(10.0, -3 + 6 * unit(rng)), sb = std::pow(10.0, -3 + 6 * unit(rng));
+        const cdkit::Box<double> a(V(sa, 0.5 * sa, 0.3 * sa));
+        const cdkit::Capsule<double> b(0.4 * sb, sb);
+        const double small = std::min(sa, sb), reach = sa + sb;
+        const V dir = cdkit::test::random_rotation<double>(rng).col(0);
+        const V side = cdkit::test::random_rotation<double>(rng).col(0) * (unit(rng) * reach);
+        const double travel = std::min(100 * small, 4 * reach) + 2 * reach;  // always enough to cross B
+        const T a0(cdkit::test::random_rotation<double>(rng), -0.5 * travel * dir + side);
+        const T a1(cdkit::test::random_rotation<double>(rng), 0.5 * travel * dir + side);
+        const T b0(cdkit::test::random_rotation<double>(rng), V::Zero());
+        const T b1 = b0;
+        const auto r = cdkit::convex_toi(a, a0, a1, b, b0, b1);
+        REQUIRE(r.status == cdkit::QueryStatus::ok);
+        const double first = sampled_first_contact(a, a0, a1, b, b0, b1, 400);
+        contacts += r.colliding;
+        sampled += first <= 1;
+        if (first <= 1) {
+            CAPTURE(i, sa, sb, first, r.toi, r.iterations);
+            REQUIRE(r.colliding);
+            CHECK(r.toi <= first);
+        }
+        if (r.colliding && !r.capped) {
+            // At the reported time the shapes are within the tolerance (up to GJK's own accuracy).
+            const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
+            const auto g = cdkit::gjk_distance(a, ma.at(r.toi), b, mb.at(r.toi));
+            CHECK((g.colliding() || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * reach));
+        }
+    }
+    CHECK(sampled > n / 4);  // the motions do hit
+    CHECK(contacts >= sampled);
+}
+
+TEST_CASE("convex TOI: bad poses and settings", "[ccd]") {
+    const cdkit::Sphere<double> a(1.0);
+    T bad;
+    bad.R(1, 1) = -1;  // a reflection
+    CHECK(cdkit::convex_toi(a, bad, T(), a, T(), T()).status == cdkit::QueryStatus::invalid_pose);
+    cdkit::ToiRequest zero;
+    zero.tolerance = 0;
+    CHECK(cdkit::convex_toi(a, T(), T(), a, T(), T(), zero).status == cdkit::QueryStatus::invalid_input);
+}
