@@ -15,6 +15,8 @@
 /// mutable state is the caller-owned cache.
 
 #include "cdkit/bvh/traverse.hpp"
+#include "cdkit/ccd/convex_toi.hpp"
+#include "cdkit/ccd/mesh_ccd.hpp"
 #include "cdkit/narrowphase/epa.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 #include "cdkit/query.hpp"
@@ -39,6 +41,10 @@ template <class S = double> struct WorldContact {
     Vec3<S> point_a = Vec3<S>::Zero();       ///< deepest point of a (on b's side)
     Vec3<S> point_b = Vec3<S>::Zero();       ///< deepest point of b
     int gjk_iterations = 0;                  ///< of the warm-started boolean test (convex–convex)
+    /// When in the step the contact begins: 1 for a contact at the poses of step() (a discrete test); below 1
+    /// for a pair with a CCD object (World::set_ccd), the fraction of the motion since the previous step at which
+    /// they first touch — depth 0 then, and normal and points those of the touching poses.
+    S toi = S(1);
     friend bool operator<(const WorldContact& x, const WorldContact& y) noexcept {
         return ObjectPair{x.a, x.b} < ObjectPair{y.a, y.b};
     }
@@ -138,6 +144,50 @@ template <class S>
         out->b = id_b;
     }
     return out;
+}
+
+/// The first contact of two objects while each moves from its pose at `start_*` to the one at `end_*`: convex
+/// pairs by conservative advancement (convex_toi), mesh pairs by mesh_ccd; a convex shape against a mesh has no
+/// continuous test yet and is tested at the end poses (toi 1). Ids ordered as in collide_shapes.
+template <class S>
+[[nodiscard]] std::optional<WorldContact<S>> continuous_collide_shapes(ObjectId id_a, const Shape<S>& a,
+                                                                       const Transform<S>& start_a,
+                                                                       const Transform<S>& end_a, ObjectId id_b,
+                                                                       const Shape<S>& b, const Transform<S>& start_b,
+                                                                       const Transform<S>& end_b,
+                                                                       GjkCache<S>* cache = nullptr) {
+    static_assert(std::is_same_v<S, double>, "continuous collision runs in double");
+    if (id_b < id_a) return continuous_collide_shapes(id_b, b, start_b, end_b, id_a, a, start_a, end_a, cache);
+    const Transform<S> sa = a.placed(start_a), ea = a.placed(end_a), sb = b.placed(start_b), eb = b.placed(end_b);
+    if (a.is_convex() && b.is_convex()) {
+        return a.visit_convex([&](const auto& ca) {
+            return b.visit_convex([&](const auto& cb) -> std::optional<WorldContact<S>> {
+                const ToiResult r = convex_toi(ca, sa, ea, cb, sb, eb);
+                if (!r.colliding) return std::nullopt;
+                WorldContact<S> w;
+                w.a = id_a, w.b = id_b;
+                w.method = PairMethod::convex_convex;
+                w.has_depth = true;  // touching at toi: depth 0
+                w.normal = r.normal;
+                w.point_a = r.point_a;
+                w.point_b = r.point_b;
+                w.gjk_iterations = r.iterations;
+                w.toi = r.toi;
+                return w;
+            });
+        });
+    }
+    if (!a.is_convex() && !b.is_convex()) {
+        const DeformableCcdResult r = mesh_ccd(a.mesh_model(), sa, ea, b.mesh_model(), sb, eb);
+        if (!r.colliding) return std::nullopt;
+        WorldContact<S> w;
+        w.a = id_a, w.b = id_b;
+        w.method = PairMethod::mesh_mesh;
+        w.point_a = w.point_b = r.contacts.front().ccd.point;
+        w.toi = r.toi;
+        return w;
+    }
+    return collide_shapes(id_a, a, end_a, id_b, b, end_b, cache);
 }
 
 }  // namespace cdkit

@@ -23,6 +23,7 @@
 #include "cdkit/world/narrow_phase.hpp"
 
 #include <algorithm>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -82,7 +83,7 @@ public:
         const BroadBox<S> box = shape.world_box(pose);
         const ObjectId id = std::visit([&](auto& bp) { return bp.insert(box); }, bp_);
         if (id >= objects_.size()) objects_.resize(std::size_t(id) + 1);
-        objects_[id] = Object{std::move(shape), pose, true};
+        objects_[id] = Object{std::move(shape), pose, true, false, pose};
         return id;
     }
     /// Removes an object (ends its interest-matrix pairs and drops its filters). Throws for an unknown id.
@@ -97,9 +98,20 @@ public:
         check_id(id, "set_pose");
         check_pose(pose, "set_pose");
         objects_[id].pose = pose;
-        const BroadBox<S> box = objects_[id].shape->world_box(pose);
-        std::visit([&](auto& bp) { bp.move(id, box); }, bp_);
+        std::visit([&](auto& bp) { bp.move(id, broad_box(objects_[id])); }, bp_);
     }
+    /// Continuous collision for this object (double only): step() then tests its pairs over the whole motion
+    /// from its pose at the previous step() (or at add) to its current one, and reports the first contact with
+    /// its time `toi` < 1 — so a small fast object cannot pass through a thin one between two steps. Its broad-
+    /// phase box covers the motion. Convex pairs use conservative advancement (convex_toi), mesh pairs mesh_ccd;
+    /// a convex shape against a mesh is still tested at the end poses only. Throws for an unknown id.
+    void set_ccd(ObjectId id, bool on) {
+        static_assert(std::is_same_v<S, double>, "continuous collision runs in double");
+        check_id(id, "set_ccd");
+        objects_[id].ccd = on;
+        std::visit([&](auto& bp) { bp.move(id, broad_box(objects_[id])); }, bp_);
+    }
+    [[nodiscard]] bool ccd(ObjectId id) const { check_id(id, "ccd"); return objects_[id].ccd; }
     [[nodiscard]] bool contains(ObjectId id) const noexcept { return id < objects_.size() && objects_[id].alive; }
     [[nodiscard]] const Transform<S>& pose(ObjectId id) const { check_id(id, "pose"); return objects_[id].pose; }
     [[nodiscard]] const Shape<S>& shape(ObjectId id) const { check_id(id, "shape"); return *objects_[id].shape; }
@@ -139,6 +151,13 @@ public:
             const ObjectPair p = candidates_[i].pair;
             const Object& a = objects_[p.a];
             const Object& b = objects_[p.b];
+            if constexpr (std::is_same_v<S, double>) {
+                if (a.ccd || b.ccd) {
+                    results_[i] = continuous_collide_shapes(p.a, *a.shape, a.step_start, a.pose, p.b, *b.shape,
+                                                            b.step_start, b.pose, candidates_[i].cache);
+                    return;
+                }
+            }
             results_[i] = collide_shapes(p.a, *a.shape, a.pose, p.b, *b.shape, b.pose, candidates_[i].cache);
         };
 #if defined(CDKIT_HAS_TBB)
@@ -158,6 +177,14 @@ public:
             }
         std::sort(out.contacts.begin(), out.contacts.end());
         out.stats.contacts = out.contacts.size();
+        // The next step's motions start here; CCD objects' boxes shrink back to their current pose.
+        for (std::size_t id = 0; id < objects_.size(); ++id) {
+            Object& o = objects_[id];
+            if (!o.alive) continue;
+            const bool moved_ccd = o.ccd && !(o.step_start.R == o.pose.R && o.step_start.t == o.pose.t);
+            o.step_start = o.pose;
+            if (moved_ccd) std::visit([&](auto& bp) { bp.move(ObjectId(id), broad_box(o)); }, bp_);
+        }
         return out;
     }
 
@@ -166,7 +193,29 @@ private:
         std::optional<Shape<S>> shape;
         Transform<S> pose{};
         bool alive = false;
+        bool ccd = false;
+        Transform<S> step_start{};  ///< the pose at the previous step(): where a CCD object's motion starts
     };
+    /// The object's broad-phase box: at its pose, or for a CCD object over its motion since the last step().
+    /// A translation, and a mesh's motion (each vertex on a segment), stay in the box of the two end boxes; a
+    /// convex shape that turns sweeps arcs that can leave it, so it gets the box of the ball about its frame's
+    /// origin (radius: detail::radius_about_origin) along the origin's path.
+    static BroadBox<S> broad_box(const Object& o) {
+        BroadBox<S> box = o.shape->world_box(o.pose);
+        if (!o.ccd) return box;
+        const BroadBox<S> from = o.shape->world_box(o.step_start);
+        box.lo = box.lo.cwiseMin(from.lo);
+        box.hi = box.hi.cwiseMax(from.hi);
+        if constexpr (std::is_same_v<S, double>) {
+            if (o.shape->is_convex() && !(o.step_start.R == o.pose.R)) {
+                const double r = o.shape->visit_convex([](const auto& c) { return detail::radius_about_origin(c); });
+                const Vec3<S> c0 = o.shape->placed(o.step_start).t, c1 = o.shape->placed(o.pose).t;
+                box.lo = box.lo.cwiseMin(Vec3<S>(c0.cwiseMin(c1).array() - r));
+                box.hi = box.hi.cwiseMax(Vec3<S>(c0.cwiseMax(c1).array() + r));
+            }
+        }
+        return box;
+    }
     struct Candidate {
         ObjectPair pair;
         GjkCache<S>* cache;
