@@ -44,7 +44,7 @@ int main() try {
         std::printf("no contact found: wrong\n");
         return 1;
     }
-    const cdkit::FeatureContact& c = r.contacts[0];
+    const cdkit::CcdContact& c = r.contacts[0];
     std::printf("first contact at t in [%.7f, %.7f]: %s %u against %s %u at (%.4f %.4f %.4f), normal (%.2f %.2f %.2f)%s\n",
                 c.ccd.toi, c.ccd.toi_upper, c.vertex_face ? "vertex" : "edge", c.a,
                 c.vertex_face ? "triangle" : "edge", c.b, c.ccd.point.x(), c.ccd.point.y(), c.ccd.point.z(),

@@ -59,7 +59,7 @@ struct DeformableCcdRequest {
 
 /// One colliding feature pair: vertex `a` against face `b` (a triangle index), or edge `a` against edge `b`
 /// (self_ccd: indices into mesh_edges(); mesh_ccd numbers them per triangle, see there).
-struct FeatureContact {
+struct CcdContact {
     bool vertex_face = true;
     Index a = 0, b = 0;
     CcdResult ccd;
@@ -76,7 +76,7 @@ struct DeformableCcdResult {
     bool colliding = false;
     double toi = 1;  ///< certified lower bound of the first contact over all pairs (1 when none)
     /// mode first: the pair that gave `toi` (one entry); mode all: every colliding pair, in no particular order.
-    std::vector<FeatureContact> contacts;
+    std::vector<CcdContact> contacts;
     DeformableCcdStats stats;
 };
 
@@ -154,12 +154,12 @@ template <class F> void for_range(std::size_t n, bool parallel, F&& body) {
     // Candidates, then the primitive queries; per chunk into local lists, merged under a lock.
     std::mutex merge;
     double best = request.primitive.t_max;  // ContactMode::first: only contacts before this matter
-    auto record = [&](std::vector<FeatureContact>& found, std::size_t vf, std::size_t ee, std::size_t capped) {
+    auto record = [&](std::vector<CcdContact>& found, std::size_t vf, std::size_t ee, std::size_t capped) {
         std::lock_guard<std::mutex> lock(merge);
         out.stats.vertex_face_candidates += vf;
         out.stats.edge_edge_candidates += ee;
         out.stats.capped += capped;
-        for (FeatureContact& c : found) {
+        for (CcdContact& c : found) {
             if (request.mode == ContactMode::all) {
                 out.contacts.push_back(c);
             } else {
@@ -172,7 +172,7 @@ template <class F> void for_range(std::size_t n, bool parallel, F&& body) {
         std::lock_guard<std::mutex> lock(merge);
         return best;
     };
-    auto run = [&](bool vertex_face, Index a, Index b, std::vector<FeatureContact>& found, std::size_t& capped,
+    auto run = [&](bool vertex_face, Index a, Index b, std::vector<CcdContact>& found, std::size_t& capped,
                    double t_max) {
         CcdRequest req = request.primitive;
         req.t_max = std::min(req.t_max, t_max);
@@ -192,7 +192,7 @@ template <class F> void for_range(std::size_t n, bool parallel, F&& body) {
     };
     const bool first = request.mode == ContactMode::first;
     detail::for_range(start.size(), request.parallel, [&](std::size_t lo, std::size_t hi) {
-        std::vector<FeatureContact> found;
+        std::vector<CcdContact> found;
         std::size_t candidates = 0, capped = 0;
         double limit = first ? current_limit() : request.primitive.t_max;
         for (std::size_t v = lo; v < hi; ++v) {
@@ -210,7 +210,7 @@ template <class F> void for_range(std::size_t n, bool parallel, F&& body) {
         record(found, candidates, 0, capped);
     });
     detail::for_range(edges.size(), request.parallel, [&](std::size_t lo, std::size_t hi) {
-        std::vector<FeatureContact> found;
+        std::vector<CcdContact> found;
         std::size_t candidates = 0, capped = 0;
         double limit = first ? current_limit() : request.primitive.t_max;
         for (std::size_t i = lo; i < hi; ++i) {
@@ -231,7 +231,7 @@ template <class F> void for_range(std::size_t n, bool parallel, F&& body) {
     });
     out.colliding = !out.contacts.empty();
     out.toi = request.primitive.t_max;
-    for (const FeatureContact& c : out.contacts) out.toi = std::min(out.toi, c.ccd.toi);
+    for (const CcdContact& c : out.contacts) out.toi = std::min(out.toi, c.ccd.toi);
     return out;
 }
 

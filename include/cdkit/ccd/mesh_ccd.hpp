@@ -70,10 +70,10 @@ struct MovingBox {
 inline void triangle_pair_ccd(const TriangleMesh<double>& ma, Index ta, const std::array<Vec3<double>, 3>& a0,
                               const std::array<Vec3<double>, 3>& a1, const TriangleMesh<double>& mb, Index tb,
                               const std::array<Vec3<double>, 3>& b0, const std::array<Vec3<double>, 3>& b1,
-                              const CcdRequest& base, double& limit, bool first, std::vector<FeatureContact>& found,
+                              const CcdRequest& base, double& limit, bool first, std::vector<CcdContact>& found,
                               DeformableCcdStats& stats) {
     CcdRequest req = base;
-    auto keep = [&](const CcdResult& r, FeatureContact c) {
+    auto keep = [&](const CcdResult& r, CcdContact c) {
         stats.capped += r.stats.capped;
         if (!r.colliding) return;
         c.ccd = r;
@@ -102,7 +102,7 @@ inline void triangle_pair_ccd(const TriangleMesh<double>& ma, Index ta, const st
 
 /// The same feature pair reached through another triangle pair (a vertex lies in several triangles, an edge in
 /// two): one key per pair, so that ContactMode::all reports each once.
-[[nodiscard]] inline std::array<Index, 5> feature_key(const FeatureContact& c, const TriangleMesh<double>& ma,
+[[nodiscard]] inline std::array<Index, 5> feature_key(const CcdContact& c, const TriangleMesh<double>& ma,
                                                       const TriangleMesh<double>& mb) noexcept {
     if (c.vertex_face) return {0, Index(c.vertex_on_b), c.a, c.b, 0};
     const Triangle& ta = ma.triangles[c.a / 3];
@@ -112,10 +112,10 @@ inline void triangle_pair_ccd(const TriangleMesh<double>& ma, Index ta, const st
 }
 
 /// The earliest contact first; ContactMode::all: one contact per feature pair.
-inline void finish_mesh_ccd(DeformableCcdResult& out, std::vector<FeatureContact>& found, ContactMode mode,
+inline void finish_mesh_ccd(DeformableCcdResult& out, std::vector<CcdContact>& found, ContactMode mode,
                             double t_max, const TriangleMesh<double>& ma, const TriangleMesh<double>& mb) {
     out.toi = t_max;
-    for (const FeatureContact& c : found) out.toi = std::min(out.toi, c.ccd.toi);
+    for (const CcdContact& c : found) out.toi = std::min(out.toi, c.ccd.toi);
     out.colliding = !found.empty();
     if (mode == ContactMode::first) {
         if (!found.empty())
@@ -157,7 +157,7 @@ template <class BV>
     const auto& mb = b.mesh();
     const auto& na = a.bvh().nodes();
     const auto& nb = b.bvh().nodes();
-    std::vector<FeatureContact> found;
+    std::vector<CcdContact> found;
     if (na.empty() || nb.empty()) return out;
     const bool first = request.mode == ContactMode::first;
     double limit = request.primitive.t_max;
@@ -251,7 +251,7 @@ template <class BV>
                                                               const Transform<double>& b_end,
                                                               const DeformableCcdRequest& request = {}) {
     DeformableCcdResult out;
-    std::vector<FeatureContact> found;
+    std::vector<CcdContact> found;
     double limit = request.primitive.t_max;
     const bool first = request.mode == ContactMode::first;
     auto triangle_at = [](const TriangleMesh<double>& m, Index t, const Transform<double>& pose) {
