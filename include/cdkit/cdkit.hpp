@@ -45,6 +45,7 @@
 #include "cdkit/ccd/deformable_ccd.hpp"
 #include "cdkit/ccd/edge_edge.hpp"
 #include "cdkit/ccd/mesh_ccd.hpp"
+#include "cdkit/ccd/ray_cast.hpp"
 #include "cdkit/ccd/vertex_face.hpp"
 #include "cdkit/ist/inner_sphere_tree.hpp"
 #include "cdkit/ist/intersection_volume.hpp"
