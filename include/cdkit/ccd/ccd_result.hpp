@@ -5,6 +5,7 @@
 #include "cdkit/core/math.hpp"
 
 #include <cstdint>
+#include <initializer_list>
 
 namespace cdkit {
 
@@ -54,5 +55,14 @@ struct CcdResult {
                                                  ///< towards the vertex (edge A) as they were at t = 0
     CcdStats stats;
 };
+
+namespace detail {
+/// The check every continuous query makes of the poses that start and end its motions.
+[[nodiscard]] inline bool motion_poses_usable(std::initializer_list<const Transform<double>*> poses) noexcept {
+    for (const auto* p : poses)
+        if (!pose_is_usable(*p)) return false;
+    return true;
+}
+}  // namespace detail
 
 }  // namespace cdkit

@@ -14,6 +14,7 @@
 /// never skipped, whatever the shapes' sizes or speeds (only GJK's distance must be right, which it certifies).
 /// A pure translation (equal rotations at both ends) is the shape cast.
 
+#include "cdkit/ccd/ccd_result.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 
 #include <algorithm>
@@ -78,11 +79,10 @@ template <SupportMapped A, SupportMapped B>
                                    const B& b, const Transform<double>& b_start, const Transform<double>& b_end,
                                    const ToiRequest& request = {}) {
     ToiResult out;
-    for (const auto* p : {&a_start, &a_end, &b_start, &b_end})
-        if (!pose_is_usable(*p)) {
-            out.status = QueryStatus::invalid_pose;
-            return out;
-        }
+    if (!detail::motion_poses_usable({&a_start, &a_end, &b_start, &b_end})) {
+        out.status = QueryStatus::invalid_pose;
+        return out;
+    }
     if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.max_iterations < 1) {
         out.status = QueryStatus::invalid_input;
         return out;

@@ -144,11 +144,10 @@ template <class BV>
                                            const Transform<double>& b_start, const Transform<double>& b_end,
                                            const DeformableCcdRequest& request = {}) {
     DeformableCcdResult out;
-    for (const auto* pose : {&a_start, &a_end, &b_start, &b_end})
-        if (!pose_is_usable(*pose)) {
-            out.status = QueryStatus::invalid_pose;
-            return out;
-        }
+    if (!detail::motion_poses_usable({&a_start, &a_end, &b_start, &b_end})) {
+        out.status = QueryStatus::invalid_pose;
+        return out;
+    }
     if (!detail::ccd_request_is_valid(request.primitive)) {
         out.status = QueryStatus::invalid_input;
         return out;
