@@ -35,6 +35,14 @@ namespace detail {
     return pose.R * v + pose.t;
 }
 
+/// Triangle t of mesh m at a pose, vertex by vertex as posed_vertex places them.
+[[nodiscard]] inline std::array<Vec3<double>, 3> posed_triangle(const TriangleMesh<double>& m, Index t,
+                                                                const Transform<double>& pose) noexcept {
+    const Triangle& tri = m.triangles[t];
+    return {posed_vertex(pose, m.vertices[tri[0]]), posed_vertex(pose, m.vertices[tri[1]]),
+            posed_vertex(pose, m.vertices[tri[2]])};
+}
+
 /// A box that moves over the step: every point of the feature it bounds is in `at0` at t = 0 and in `at1` at t = 1,
 /// and moves linearly between, so at time t it lies in the box whose corners are the lerp of the two boxes'.
 struct MovingBox {
@@ -166,12 +174,6 @@ template <class BV>
         box.hi.array() += grow * (1 + 1e-12);
         return box;
     };
-    auto triangle_at = [](const TriangleMesh<double>& m, Index t, const Transform<double>& pose) {
-        const Triangle& tri = m.triangles[t];
-        return std::array<Vec3<double>, 3>{detail::posed_vertex(pose, m.vertices[tri[0]]),
-                                           detail::posed_vertex(pose, m.vertices[tri[1]]),
-                                           detail::posed_vertex(pose, m.vertices[tri[2]])};
-    };
     auto points_box = [](const std::array<Vec3<double>, 3>& p) {
         BroadBox<double> box{p[0], p[0]};
         for (const auto& v : p) box.lo = box.lo.cwiseMin(v), box.hi = box.hi.cwiseMax(v);
@@ -214,11 +216,13 @@ template <class BV>
         if (xl && yl) {
             for (std::uint32_t i = x.first; i < x.first + x.count; ++i) {
                 const Index ta = order_a[i];
-                const auto a0 = triangle_at(ma, ta, a_start), a1 = triangle_at(ma, ta, a_end);
+                const auto a0 = detail::posed_triangle(ma, ta, a_start);
+                const auto a1 = detail::posed_triangle(ma, ta, a_end);
                 const detail::MovingBox boxa{grown(points_box(a0)), grown(points_box(a1))};
                 for (std::uint32_t j = y.first; j < y.first + y.count; ++j) {
                     const Index tb = order_b[j];
-                    const auto b0 = triangle_at(mb, tb, b_start), b1 = triangle_at(mb, tb, b_end);
+                    const auto b0 = detail::posed_triangle(mb, tb, b_start);
+                    const auto b1 = detail::posed_triangle(mb, tb, b_end);
                     const auto w = detail::overlap_window(boxa, {points_box(b0), points_box(b1)}, 0.0, limit);
                     if (w.first > w.second) continue;
                     detail::triangle_pair_ccd(ma, ta, a0, a1, mb, tb, b0, b1, request.primitive, limit, first, found,
@@ -253,16 +257,12 @@ template <class BV>
     std::vector<CcdContact> found;
     double limit = request.primitive.t_max;
     const bool first = request.mode == ContactMode::first;
-    auto triangle_at = [](const TriangleMesh<double>& m, Index t, const Transform<double>& pose) {
-        const Triangle& tri = m.triangles[t];
-        return std::array<Vec3<double>, 3>{detail::posed_vertex(pose, m.vertices[tri[0]]),
-                                           detail::posed_vertex(pose, m.vertices[tri[1]]),
-                                           detail::posed_vertex(pose, m.vertices[tri[2]])};
-    };
     for (Index ta = 0; ta < ma.triangles.size(); ++ta) {
-        const auto a0 = triangle_at(ma, ta, a_start), a1 = triangle_at(ma, ta, a_end);
+        const auto a0 = detail::posed_triangle(ma, ta, a_start);
+        const auto a1 = detail::posed_triangle(ma, ta, a_end);
         for (Index tb = 0; tb < mb.triangles.size(); ++tb)
-            detail::triangle_pair_ccd(ma, ta, a0, a1, mb, tb, triangle_at(mb, tb, b_start), triangle_at(mb, tb, b_end),
+            detail::triangle_pair_ccd(ma, ta, a0, a1, mb, tb, detail::posed_triangle(mb, tb, b_start),
+                                      detail::posed_triangle(mb, tb, b_end),
                                       request.primitive, limit, first, found, out.stats);
     }
     detail::finish_mesh_ccd(out, found, request.mode, request.primitive.t_max, ma, mb);
