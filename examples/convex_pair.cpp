@@ -55,20 +55,20 @@ int main(int argc, char** argv) try {
         const cdkit::ClosestFeatureResult<double> c = cdkit::closest_features(hull, pose_a, hull, pose_b, &feature_cache);
         const cdkit::GjkResult<double> hit = cdkit::gjk_intersect(hull, pose_a, hull, pose_b);
         const cdkit::SeparatingPlaneResult<double> plane =
-            cdkit::separating_plane_intersect(hull, pose_a, hull, pose_b, plane_cache);
+            cdkit::separating_plane_intersect(hull, pose_a, hull, pose_b, &plane_cache);
         if (d.status == cdkit::GjkStatus::separated) last_apart = pose_b, last_normal = d.normal, last_distance = d.distance;
         std::printf("%5d %8.3f %-12s %12.9f %12.9f %-6s %-6s", f, x, to_string(d.status), d.distance, c.distance,
-                    hit.colliding() ? "hit" : "apart", plane.colliding ? "hit" : "apart");
+                    hit.colliding ? "hit" : "apart", plane.colliding ? "hit" : "apart");
         // The methods agree: the same distance (to 1e-9 of the size) when apart, the same boolean otherwise.
         if (d.status == cdkit::GjkStatus::separated && std::abs(d.distance - c.distance) > 1e-9) ++disagreements;
-        if (hit.colliding() != d.colliding() || plane.colliding != hit.colliding()) ++disagreements;
-        if (hit.colliding()) {
+        if (hit.colliding != d.colliding || plane.colliding != hit.colliding) ++disagreements;
+        if (hit.colliding) {
             const cdkit::PenetrationResult<double> p = cdkit::penetration(hull, pose_a, hull, pose_b);
             std::printf(" %-12s [%.6f, %.6f] (%.3f %.3f %.3f)", to_string(p.status), p.depth_lower, p.depth, p.normal.x(),
                         p.normal.y(), p.normal.z());
             // Moving B by depth along the normal separates the pair (up to the tolerance): depth is an upper bound.
             const T moved(pose_b.R, V(pose_b.t + (p.depth + 1e-9) * p.normal));
-            if (p.depth_lower > p.depth || cdkit::gjk_intersect(hull, pose_a, hull, moved).colliding()) ++disagreements;
+            if (p.depth_lower > p.depth || cdkit::gjk_intersect(hull, pose_a, hull, moved).colliding) ++disagreements;
         }
         std::printf("\n");
     }

@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
         ccd_t ccd = bench::make_ccd();
         // A GJK result's answers into the row's outcome (distance rows keep the distance too).
         auto keep = [](Outcome& o, std::size_t f, const GjkResult<double>& r, bool with_distance) {
-            o.hit[f] = r.colliding();
+            o.hit[f] = r.colliding;
             if (with_distance) o.distance[f] = r.distance;
             o.iterations += r.iterations;
         };
@@ -164,14 +164,25 @@ int main(int argc, char** argv) {
                                 keep(o, f, gjk_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &gc), false);
                             }};
         Method plane{"separating plane", false, reset_plane, [&](std::size_t f, Outcome& o) {
-                         auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, sc);
+                         auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &sc);
                          o.hit[f] = r.colliding;
                          o.iterations += r.iterations;
                          o.fallbacks += r.used_gjk;
                      }};
+        // The same without the lecture's repair of a failing plane (straight to warm GJK): the feature-off row.
+        SeparatingPlaneCache<double> sc0;
+        auto reset_plane0 = [&] { sc0.valid = false; sc0.gjk.size = 0; };
+        SeparatingPlaneSettings no_repair;
+        no_repair.repair_iterations = 0;
+        Method plane0{"plane, no repair", false, reset_plane0, [&](std::size_t f, Outcome& o) {
+                          auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &sc0, no_repair);
+                          o.hit[f] = r.colliding;
+                          o.iterations += r.iterations;
+                          o.fallbacks += r.used_gjk;
+                      }};
         Method features{"closest features", true, reset_features, [&](std::size_t f, Outcome& o) {
                             auto r = closest_features(a, s.frames[f].pa, b, s.frames[f].pb, &cc);
-                            o.hit[f] = r.colliding();
+                            o.hit[f] = r.colliding;
                             o.distance[f] = r.distance;
                             o.iterations += r.iterations;
                             o.fallbacks += r.used_gjk;
@@ -187,7 +198,7 @@ int main(int argc, char** argv) {
                            o.hit[f] = char(ccdMPRIntersect(&oa, &ob, &ccd) != 0);
                        }};
         std::vector<Outcome> outcomes = run(s, reps, cold_distance, cold_boolean, warm_distance, warm_boolean, plane,
-                                            features, ccd_gjk, ccd_mpr);
+                                            features, ccd_gjk, ccd_mpr, plane0);
         struct Named {
             const char* name;
             Outcome& o;
@@ -201,7 +212,8 @@ int main(int argc, char** argv) {
             {plane.name, outcomes[4], plane.distance},
             {features.name, outcomes[5], features.distance},
             {ccd_gjk.name, outcomes[6], ccd_gjk.distance},
-            {ccd_mpr.name, outcomes[7], ccd_mpr.distance}};
+            {ccd_mpr.name, outcomes[7], ccd_mpr.distance},
+            {plane0.name, outcomes[8], plane0.distance}};
         const double cold_dist = rows[0].o.median(), cold_bool = rows[1].o.median();
         std::printf("  %-18s | %9s | %11s %11s | %7s | %9s | %-22s | %s\n", "method", "median ns", "cold dist/x",
                     "cold bool/x", "mean it", "GJK used", "wrong booleans", "distance rel.err > 1e-9 (max)");
@@ -212,7 +224,7 @@ int main(int argc, char** argv) {
             if (row.distance)
                 std::snprintf(dist, sizeof dist, "%ld / %ld (%.1e)", e.wrong_dist, e.dist_checked, e.worst_rel);
             char fb[32] = "-";
-            if (row.o.fallbacks || std::string(row.name) == "separating plane" ||
+            if (row.o.fallbacks || std::string(row.name).find("plane") != std::string::npos ||
                 std::string(row.name) == "closest features")
                 std::snprintf(fb, sizeof fb, "%ld", row.o.fallbacks);
             std::printf("  %-18s | %9.0f | %11.2f %11.2f | %7.2f | %9s | %6ld / %-13ld | %s\n", row.name, med,

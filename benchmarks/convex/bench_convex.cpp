@@ -140,7 +140,7 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                 rb = gjk_intersect(a, pa, b, pb);
                 row.cd_bool_balls += rb.iterations == 0;
                 row.cd_bool.add(ns_,
-                            rb.iterations, (rb.colliding() != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
+                            rb.iterations, (rb.colliding != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
             }
             {
                 const double ns_ = time_ns([&] { const auto r = gjk_distance(a, pa, b, pb); g_sink = g_sink + r.distance; }, reps);
@@ -378,10 +378,10 @@ int main(int argc, char** argv) {
                 // decided by the containment certificate (GjkSettings::containment_test): a support point
                 // inside the other shape, no simplex
                 by_containment += bo.status == GjkStatus::intersecting && bo.iterations >= 1 && bo.simplex.size == 0;
-                bool ref_hit = ref.colliding();
+                bool ref_hit = ref.colliding;
                 hits += ref_hit;
                 if (!ref_hit && ref.distance > 1e-9L * 0.1L) {
-                    if (bo.colliding() || d.colliding()) ++fail_bool;
+                    if (bo.colliding || d.colliding) ++fail_bool;
                     if (ref.distance > 1e-7L) {
                         ++dist_checked;
                         if (std::abs(LD(d.distance) - ref.distance) > 1e-9L * ref.distance) ++fail_dist_plain;
@@ -393,7 +393,7 @@ int main(int argc, char** argv) {
                                             i, i % 6, d.distance, ref.distance, ref_c, d.iterations, int(d.status));
                         }
                     }
-                } else if (ref_hit && !(bo.colliding() && d.colliding())) {
+                } else if (ref_hit && !(bo.colliding && d.colliding)) {
                     ++fail_bool;
                 }
             };

@@ -88,7 +88,7 @@ CoherentScene make_coherent_scene(const char* name, int frames, const cdkit::Con
         // measures; A's frame maps B by R_aᵀ, R_a's inverse only to its rounding: docs/convex.md, "Near contact").
         const Transformed<ConvexPolyhedron<LD>> ta{al, pa.cast<LD>()}, tb{bl, pb.cast<LD>()};
         auto ref = gjk_distance(ta, Transform<LD>(), tb, Transform<LD>(), nullptr, tight);
-        s.frames.push_back({pa, pb, ref.colliding(), double(ref.distance)});
+        s.frames.push_back({pa, pb, ref.colliding, double(ref.distance)});
     }
     return s;
 }

@@ -14,7 +14,7 @@
 #include "distance_poses.hpp"
 #include "../thread_cpu_clock.hpp"
 #include "cdkit/cdkit.hpp"
-#include "cdkit/bvh/boxtree_distance.hpp"
+#include "cdkit/boxtree_distance.hpp"
 #include "cdkit/distance.hpp"
 
 #include "../../tests/oracles/fcl_mesh.hpp"  // the FCL model builder the FCL tests use

@@ -136,6 +136,7 @@ void volume_descent(const InnerSphereTree& a, const InnerSphereTree& b, const Fr
         while (!stack.empty() && exact == 0) step(std::true_type{});
     while (!stack.empty()) step(std::false_type{});
     out.volume = out.volume_lower = out.volume_upper = exact;
+    out.colliding = out.volume_upper > 0;
     out.calibrated = calibrated;
 }
 
@@ -222,6 +223,7 @@ void volume_best_first(const InnerSphereTree& a, const InnerSphereTree& b, const
     out.volume_lower = exact;
     out.volume_upper = out.complete ? exact : least_upper;
     out.volume = std::min(exact + rest_estimate, out.volume_upper);
+    out.colliding = out.volume_upper > 0;
     const double cov = std::max(a.coverage() * b.coverage(), 1e-12);
     const double ratio = (calibrated + rest_estimate / cov) / std::max(exact + rest_estimate, 1e-300);
     out.calibrated = calibrated + rest_estimate * ratio;
@@ -321,8 +323,8 @@ void ist_query_budget(const InnerSphereTree& a, const Transform<double>& pose_a,
         far.push_back({ia, ib, std::sqrt(d2) - na[ia].radius - nb[ib].radius});
     });
     out.stats = out.volume.stats;
-    out.overlapping = out.volume.volume_lower > 0;
-    if (out.overlapping) {
+    out.colliding = out.volume.volume_lower > 0;
+    if (out.colliding) {
         out.distance.distance = out.distance.lower_bound = 0;
         out.distance.stats = out.stats;
         return;
@@ -445,8 +447,8 @@ IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose
     }
 
     out.volume.stats = out.stats;
-    out.overlapping = exact > 0;
-    if (out.overlapping) {
+    out.colliding = exact > 0;
+    if (out.colliding) {
         out.distance.distance = out.distance.lower_bound = 0;
         out.distance.sphere_a = out.distance.sphere_b = 0;
         return out;

@@ -7,7 +7,7 @@
 
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/boxtree.hpp"
-#include "cdkit/bvh/boxtree_collide.hpp"
+#include "cdkit/boxtree_collide.hpp"
 #include "cdkit/io/load_mesh.hpp"
 
 #include <catch2/catch.hpp>

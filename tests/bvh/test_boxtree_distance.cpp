@@ -5,7 +5,7 @@
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
-#include "cdkit/bvh/boxtree_distance.hpp"
+#include "cdkit/boxtree_distance.hpp"
 
 #include <catch2/catch.hpp>
 

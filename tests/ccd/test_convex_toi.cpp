@@ -21,7 +21,7 @@ double sampled_first_contact(const A& a, const T& a0, const T& a1, const B& b, c
     const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
     for (int i = 0; i <= n; ++i) {
         const double t = double(i) / n;
-        if (cdkit::gjk_intersect(a, ma.at(t), b, mb.at(t)).colliding()) return t;
+        if (cdkit::gjk_intersect(a, ma.at(t), b, mb.at(t)).colliding) return t;
     }
     return 2;
 }
@@ -77,7 +77,7 @@ TEST_CASE("convex TOI: fast pairs of every size ratio never tunnel", "[ccd]") {
             // At the reported time the shapes are within the tolerance (up to GJK's own accuracy).
             const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
             const auto g = cdkit::gjk_distance(a, ma.at(r.toi), b, mb.at(r.toi));
-            CHECK((g.colliding() || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * reach));
+            CHECK((g.colliding || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * reach));
         }
     }
     CHECK(sampled > n / 4);  // the motions do hit

@@ -96,7 +96,7 @@ TEST_CASE("penetration volume is zero when apart, and distance equals brute forc
         REQUIRE(q.status == QueryStatus::ok);
         if (bf > 0) {
             ++apart;
-            CHECK_FALSE(q.overlapping);
+            CHECK_FALSE(q.colliding);
             CHECK(q.volume.volume == 0);
             CHECK(q.volume.pairs.empty());
             CHECK(q.distance.distance == Approx(bf).epsilon(1e-10));
@@ -106,7 +106,7 @@ TEST_CASE("penetration volume is zero when apart, and distance equals brute forc
             CHECK((pa * sa.center - q.distance.point_a).norm() == Approx(sa.radius).epsilon(1e-9));
             CHECK((pb * sb.center - q.distance.point_b).norm() == Approx(sb.radius).epsilon(1e-9));
         } else if (bf < -1e-12) {
-            CHECK(q.overlapping);
+            CHECK(q.colliding);
             CHECK(q.volume.volume > 0);
             CHECK(sphere_distance(t, pa, t, pb).distance == 0);
         }
@@ -135,7 +135,7 @@ TEST_CASE("ist_query's one descent gives the two traversals' answers bit for bit
             CHECK(q.volume.pairs[k].b == v.pairs[k].b);
             CHECK(q.volume.pairs[k].volume == v.pairs[k].volume);
         }
-        CHECK(q.overlapping == (v.volume > 0));
+        CHECK(q.colliding == (v.volume > 0));
         if (v.volume > 0) {
             ++overlapping;
             CHECK(q.distance.distance == 0);
@@ -259,9 +259,9 @@ TEST_CASE("time-critical ist_query: one pass over one budget; volume as penetrat
             CHECK(q.volume.complete == v.complete);
             // One budget for both parts: at most one node's children past it.
             CHECK(q.stats.node_tests <= budget + 16);
-            if (q.overlapping) {
+            if (q.colliding) {
                 CHECK(q.distance.distance == 0);
-                CHECK(full.overlapping);
+                CHECK(full.colliding);
                 continue;
             }
             CHECK(q.distance.lower_bound <= std::max(0.0, bf) + 1e-12);
@@ -275,7 +275,7 @@ TEST_CASE("time-critical ist_query: one pass over one budget; volume as penetrat
             if (budget == 100000000) {
                 CHECK(q.volume.complete);
                 CHECK(q.distance.complete);
-                CHECK(q.overlapping == full.overlapping);
+                CHECK(q.colliding == full.colliding);
                 CHECK(q.distance.distance == full.distance.distance);
             }
             if (bf > 0 && budget == 400) (q.distance.complete ? apart_complete : apart_cut) += 1;

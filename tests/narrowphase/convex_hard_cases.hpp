@@ -259,7 +259,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
     const bool ref_overlap = ref.status == GjkStatus::intersecting;
     const bool decisive = ref_overlap || (ref.status == GjkStatus::separated && ref.distance > LD(1e-9 * size));
     c.decisive += decisive;
-    c.colliding += ref.colliding();
+    c.colliding += ref.colliding;
 
     const auto cold = gjk_intersect(a, pa, b, pb);
     GjkCache<double> bool_cache, dist_cache;
@@ -301,7 +301,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
     const char* const query_names[4] = {"cold boolean", "warm boolean", "distance", "warm distance"};
     int q = 0;
     for (const auto* r : {&cold, &warm, &dist, &warm_dist}) {
-        judge(query_names[q], finite(*r), r->status, r->colliding(), q >= 2, r->distance, r->iterations);
+        judge(query_names[q], finite(*r), r->status, r->colliding, q >= 2, r->distance, r->iterations);
         ++q;
     }
     // The separating plane and, for two hulls, the closest-feature walk: cold, and after a query at B moved half a
@@ -314,12 +314,12 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
     }
     {
         SeparatingPlaneCache<double> fresh, moved;
-        const auto cold_plane = separating_plane_intersect(a, pa, b, pb, fresh);
-        (void)separating_plane_intersect(a, pa, b, pb_far, moved);
-        const auto warm_plane = separating_plane_intersect(a, pa, b, pb, moved);
+        const auto cold_plane = separating_plane_intersect(a, pa, b, pb, &fresh);
+        (void)separating_plane_intersect(a, pa, b, pb_far, &moved);
+        const auto warm_plane = separating_plane_intersect(a, pa, b, pb, &moved);
         for (const auto* r : {&cold_plane, &warm_plane})
             judge(r == &cold_plane ? "separating plane" : "separating plane (cached)", true,
-                  r->used_gjk ? r->gjk_status : GjkStatus::separated, r->colliding, false, 0.0, r->iterations);
+                  r->used_gjk ? r->status : GjkStatus::separated, r->colliding, false, 0.0, r->iterations);
     }
     if constexpr (std::is_same_v<A, ConvexPolyhedron<double>> && std::is_same_v<B, ConvexPolyhedron<double>>) {
         ClosestFeatureCache<double> moved;
@@ -330,7 +330,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
             const bool finite_values = std::isfinite(r->distance) && r->point_a.allFinite() &&
                                        r->point_b.allFinite() && r->normal.allFinite();
             judge(r == &cold_walk ? "closest features" : "closest features (cached)", finite_values, r->status,
-                  r->colliding(), true, r->distance, r->iterations);
+                  r->colliding, true, r->distance, r->iterations);
         }
     }
     // Separation distances against the certified interval (reported).
@@ -351,7 +351,7 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
             ++c.outliers_described;
         }
     }
-    if (ref_overlap || cold.colliding()) {
+    if (ref_overlap || cold.colliding) {
         ++c.epa_runs;
         const auto p = penetration(a, pa, b, pb);
         ++c.epa_status[std::size_t(p.status)];

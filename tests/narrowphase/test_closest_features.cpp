@@ -62,23 +62,23 @@ struct Checker {
         iterations += r.iterations;
         used_gjk += r.used_gjk;
         auto g = gjk_distance(a, pa, b, pb);
-        if (r.colliding()) ++colliding; else ++separated;
-        if (r.colliding() != g.colliding() && std::max(r.distance, g.distance) > 1e-9) ++bad_gjk;
-        if (!r.colliding() && !g.colliding() && std::abs(r.distance - g.distance) > 1e-9 * g.distance + 1e-14)
+        if (r.colliding) ++colliding; else ++separated;
+        if (r.colliding != g.colliding && std::max(r.distance, g.distance) > 1e-9) ++bad_gjk;
+        if (!r.colliding && !g.colliding && std::abs(r.distance - g.distance) > 1e-9 * g.distance + 1e-14)
             ++bad_gjk;
         if (!with_reference) return;
         auto A = test::ref_polytope(a, pa), B = test::ref_polytope(b, pb);
         const bool hit = test::ref_intersect(A, B);
         if (hit) {
-            if (!r.colliding()) {
+            if (!r.colliding) {
                 // Allowed only within the touching band: the reference's boundary cases.
                 ++bad_boolean;
             }
             return;
         }
         const L ref = test::ref_distance(A, B);
-        if (ref > 1e-9L && r.colliding()) ++bad_boolean;
-        if (!r.colliding()) {
+        if (ref > 1e-9L && r.colliding) ++bad_boolean;
+        if (!r.colliding) {
             const double rel = double(std::abs(L(r.distance) - ref) / std::max(ref, L(1e-12)));
             worst_rel = std::max(worst_rel, rel);
             if (rel > 1e-9) ++bad_distance;
@@ -223,10 +223,10 @@ TEST_CASE("closest features: boxes with parallel faces, cube face to face", "[cl
     CHECK(checked == 5 * 4 + 5 * 3 * 2);
     // Exactly touching faces and overlapping cubes are colliding.
     Transform<double> touch(Mat3<double>::Identity(), Vec3<double>(1.0, 0.2, 0.1));
-    CHECK(closest_features(cube, id, cube, touch).colliding());
+    CHECK(closest_features(cube, id, cube, touch).colliding);
     Transform<double> overlap(Mat3<double>::Identity(), Vec3<double>(0.9, 0.2, 0.1));
-    CHECK(closest_features(cube, id, cube, overlap).colliding());
-    CHECK(closest_features(cube, id, cube, overlap, &cache).colliding());
+    CHECK(closest_features(cube, id, cube, overlap).colliding);
+    CHECK(closest_features(cube, id, cube, overlap, &cache).colliding);
 }
 
 TEST_CASE("closest features: penetrating cases report intersecting", "[closest_features][penetration]") {
@@ -250,10 +250,10 @@ TEST_CASE("closest features: penetrating cases report intersecting", "[closest_f
             ClosestFeatureCache<double> c2 = cache;
             auto warm = closest_features(a, pa, b, pb, &c2);
             auto cold = closest_features(a, pa, b, pb);
-            CHECK(warm.colliding());
-            CHECK(cold.colliding());
+            CHECK(warm.colliding);
+            CHECK(cold.colliding);
             CHECK(warm.distance == 0);
-            colliding += warm.colliding() + cold.colliding();
+            colliding += warm.colliding + cold.colliding;
         }
     }
     CHECK(colliding == 4 * n);
@@ -371,13 +371,13 @@ TEST_CASE("closest features in float agree with the double computation", "[close
         moved.t += 1e-3f * moved.t.normalized();
         auto r = closest_features(a, paf, b, moved, &cache);
         auto ref = gjk_distance(ad, paf.cast<double>(), bd, moved.cast<double>());
-        if (ref.colliding()) {
+        if (ref.colliding) {
             ++colliding;
-            bad += !r.colliding();
+            bad += !r.colliding;
         } else {
             ++separated;
             if (ref.distance > 1e-3)
-                bad += r.colliding() || std::abs(r.distance - ref.distance) > 1e-3 * ref.distance + 1e-5;
+                bad += r.colliding || std::abs(r.distance - ref.distance) > 1e-3 * ref.distance + 1e-5;
         }
     }
     CHECK(bad == 0);
@@ -390,7 +390,7 @@ TEST_CASE("closest features: scales 1e-6 to 1e6, nested and coincident hulls", "
     for (double s : {1e-6, 1.0, 1e6}) {
         ConvexPolyhedron<double> a(random_points(rng, 100, s)), b(random_points(rng, 50, 0.1 * s));
         const Transform<double> id;
-        CHECK(closest_features(a, id, a, id).colliding());  // coincident
+        CHECK(closest_features(a, id, a, id).colliding);  // coincident
         CHECK(closest_features(a, id, b, id).status == GjkStatus::intersecting);  // b inside a: no boundary contact
         CHECK(closest_features(b, id, a, id).status == GjkStatus::intersecting);
         // A coherent pass from separated through deep overlap and out again, against GJK.
@@ -401,8 +401,8 @@ TEST_CASE("closest features: scales 1e-6 to 1e6, nested and coincident hulls", "
                                 Vec3<double>(0.02 * std::abs(f) * s, 0.002 * f * s, 0));
             auto r = closest_features(a, id, b, p, &cache);
             auto g = gjk_distance(a, id, b, p);
-            hits += r.colliding();
-            if (r.colliding() != g.colliding() || std::abs(r.distance - g.distance) > 1e-9 * g.distance + 1e-13 * s)
+            hits += r.colliding;
+            if (r.colliding != g.colliding || std::abs(r.distance - g.distance) > 1e-9 * g.distance + 1e-13 * s)
                 ++bad;
         }
         CHECK(bad == 0);

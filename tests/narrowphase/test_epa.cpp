@@ -155,8 +155,8 @@ TEST_CASE("EPA certificate: moving B by depth along the normal just separates", 
         Transform<double> out = pb, in = pb;
         out.t += (r.depth + tol) * r.normal;
         in.t += std::max(r.depth - tol, 0.0) * r.normal;
-        if (gjk_intersect(a, pa, b, out).colliding()) { ++bad; UNSCOPED_INFO("still colliding, depth " << r.depth); }
-        if (r.depth > 2 * tol && !gjk_intersect(a, pa, b, in).colliding()) {
+        if (gjk_intersect(a, pa, b, out).colliding) { ++bad; UNSCOPED_INFO("still colliding, depth " << r.depth); }
+        if (r.depth > 2 * tol && !gjk_intersect(a, pa, b, in).colliding) {
             ++bad;
             UNSCOPED_INFO("separated early, depth " << r.depth);
         }

@@ -260,9 +260,9 @@ TEMPLATE_TEST_CASE("GJK sphere-sphere and sphere-capsule match closed forms", "[
             CHECK((r.point_b - r.point_a).norm() == Approx(r.distance).margin(10 * tol));
         } else {
             ++hits;
-            CHECK(r.colliding());
+            CHECK(r.colliding);
         }
-        CHECK(gjk_intersect(a, pa, b, pb).colliding() == (ref <= 0));
+        CHECK(gjk_intersect(a, pa, b, pb).colliding == (ref <= 0));
         // Sphere against capsule: the capsule axis is the segment ±half_length·z in its frame.
         auto rc = gjk_distance(a, pa, c, pb);
         VL p = pa.t.template cast<L>();
@@ -270,7 +270,7 @@ TEMPLATE_TEST_CASE("GJK sphere-sphere and sphere-capsule match closed forms", "[
         VL e1 = (pb * Vec3<S>(0, 0, c.half_length)).template cast<L>();
         L refc = (test::closest_on_segment(p, e0, e1) - p).norm() - L(a.radius) - L(c.radius);
         if (refc > 0) CHECK(std::abs(L(rc.distance) - refc) <= L(tol) * 10 * std::max<L>(1, refc));
-        else CHECK(rc.colliding());
+        else CHECK(rc.colliding);
     }
     CHECK(hits > n / 10);
     CHECK(hits < n * 9 / 10);
@@ -296,7 +296,7 @@ TEST_CASE("GJK sphere-box matches closed form across scale ratios up to 1e6", "[
                 CHECK(std::abs(L(r.distance) - ref) <= 1e-9L * std::max<L>(ref, L(1e-6) * scale));
             } else if (ref < -1e-9L * scale) {
                 ++hits;
-                CHECK(r.colliding());
+                CHECK(r.colliding);
             }
         }
     }
@@ -318,15 +318,15 @@ TEST_CASE("GJK polytope distance matches brute force in long double", "[gjk]") {
         auto rbool = gjk_intersect(a, pa, b, pb);
         if (ref_hit) {
             ++hits;
-            CHECK(r.colliding());
-            CHECK(rbool.colliding());
+            CHECK(r.colliding);
+            CHECK(rbool.colliding);
         } else {
             ++separated;
             L ref = test::ref_distance(ra, rb);
             if (ref > 1e-12L) {
                 REQUIRE(r.status == GjkStatus::separated);
                 CHECK(std::abs(L(r.distance) - ref) <= 1e-9L * std::max<L>(ref, 1e-3L));
-                CHECK(!rbool.colliding());
+                CHECK(!rbool.colliding);
                 // Witness points lie on the shapes: their distance is the distance.
                 CHECK(std::abs((r.point_a - r.point_b).norm() - r.distance) <= 1e-9 * std::max(1.0, r.distance));
             }
@@ -475,9 +475,9 @@ TEST_CASE("GJK touching configurations: boxes face to face, edge to edge", "[gjk
         Transform<double> pa = Transform<double>::translation({0, 0, 0});
         Transform<double> pb = Transform<double>::translation({0.5 + 0.5 * s, 0.2, -0.1});
         auto r = gjk_distance(box, pa, b2, pb);
-        CHECK(r.colliding());
+        CHECK(r.colliding);
         CHECK(r.distance == 0.0);
-        CHECK(gjk_intersect(box, pa, b2, pb).colliding());
+        CHECK(gjk_intersect(box, pa, b2, pb).colliding);
         pb.t.x() += 1e-3;
         r = gjk_distance(box, pa, b2, pb);
         CHECK(r.status == GjkStatus::separated);
@@ -486,7 +486,7 @@ TEST_CASE("GJK touching configurations: boxes face to face, edge to edge", "[gjk
     }
     // Hull against box, face to face exactly.
     auto r = gjk_distance(hull, Transform<double>{}, box, Transform<double>::translation({0, 1.0, 0}));
-    CHECK(r.colliding());
+    CHECK(r.colliding);
     CHECK(r.distance == 0.0);
     // Sphere resting on a box face.
     Sphere<double> sphere(0.25);
@@ -507,11 +507,11 @@ TEST_CASE("GJK shapes of all kinds: boolean agrees with distance, hit rate", "[g
         auto d = gjk_distance(a, pa, b, pb);
         auto i = gjk_intersect(a, pa, b, pb);
         if (d.status == GjkStatus::max_iterations || d.status == GjkStatus::degenerate) ++bad;
-        if (d.colliding()) ++hits;
+        if (d.colliding) ++hits;
         if (d.status == GjkStatus::separated && d.distance > 1e-9) {
             // Lower bound check: witnesses are on the shapes, so nothing can be closer than their gap
             // measured along the normal; and the boolean must agree.
-            if (i.colliding()) ++bad;
+            if (i.colliding) ++bad;
             double gap = (d.point_b - d.point_a).dot(d.normal);
             if (std::abs(gap - d.distance) > 1e-9) ++bad;
             // The support planes along ±normal certify the distance.
@@ -519,7 +519,7 @@ TEST_CASE("GJK shapes of all kinds: boolean agrees with distance, hit rate", "[g
             double hA = d.normal.dot(pa * Vec3<double>(a.support(nA)));
             double hB = d.normal.dot(pb * Vec3<double>(b.support(nB)));
             if (std::abs((hB - hA) - d.distance) > 1e-7) ++bad;
-        } else if (d.colliding() && !i.colliding()) {
+        } else if (d.colliding && !i.colliding) {
             ++bad;
         }
     };
@@ -576,9 +576,9 @@ TEST_CASE("GJK warm start from stored support points: exact near contact, guarde
             const auto warm = gjk_distance(sa, pa, sb, pb, &dcache);
             const auto wb = gjk_intersect(sa, pa, sb, pb, &bcache);
             ++checked;
-            hits += cold.colliding();
-            const bool wrong_bool = warm.colliding() != cold.colliding() || wb.colliding() != cold.colliding();
-            const bool wrong_dist = !cold.colliding() &&
+            hits += cold.colliding;
+            const bool wrong_bool = warm.colliding != cold.colliding || wb.colliding != cold.colliding;
+            const bool wrong_dist = !cold.colliding &&
                                     std::abs(warm.distance - cold.distance) > 1e-9 * cold.distance + abs_tol;
             bad += wrong_bool || wrong_dist;
         }
@@ -599,9 +599,9 @@ TEST_CASE("GJK warm start from stored support points: exact near contact, guarde
         const ConvexPolyhedron<double>& bb = (i % 2) ? b : other;
         const auto cold = gjk_distance(a, Transform<double>{}, bb, p);
         const auto warm = gjk_distance(a, Transform<double>{}, bb, p, &shared);
-        if (cold.colliding() != warm.colliding()) ++wrong;
-        else if (!cold.colliding() && std::abs(cold.distance - warm.distance) > 1e-9 * cold.distance + 1e-14) ++wrong;
-        if (gjk_intersect(a, Transform<double>{}, bb, p, &shared).colliding() != cold.colliding()) ++wrong;
+        if (cold.colliding != warm.colliding) ++wrong;
+        else if (!cold.colliding && std::abs(cold.distance - warm.distance) > 1e-9 * cold.distance + 1e-14) ++wrong;
+        if (gjk_intersect(a, Transform<double>{}, bb, p, &shared).colliding != cold.colliding) ++wrong;
     }
     CHECK(wrong == 0);
 }
@@ -646,7 +646,7 @@ TEST_CASE("GJK warm boolean's cached-direction exit: the cold answer, with a cer
             pb.R = spin_b * pb.R;
             pb.t = pa.t + Vec3<double>(0.9 + 0.7 * std::cos(0.05 * f), 0.2 * std::sin(0.03 * f), 0.0);
             const auto r = gjk_intersect(a, pa, b, pb, &cache);
-            wrong += r.colliding() != gjk_intersect(a, pa, b, pb).colliding();
+            wrong += r.colliding != gjk_intersect(a, pa, b, pb).colliding;
             if (r.status != GjkStatus::separated || r.iterations != 0) continue;
             ++exits;
             if (!plane_points_certified(a, pa, b, pb, r)) ++bad;
@@ -689,7 +689,7 @@ TEST_CASE("GJK cold boolean with and without momentum agrees with long double ne
         const double target = (k % 2 ? -0.1 : 0.1) * std::pow(10.0, -2 * (1 + (k / 2) % 3));
         pb.t += (target - double(d0.distance)) * d0.normal.template cast<double>();
         const auto ref = gjk_distance(al, pa.cast<L>(), bl, pb.cast<L>(), nullptr, tight);
-        const bool ref_hit = ref.colliding();
+        const bool ref_hit = ref.colliding;
         if (!ref_hit && !(ref.distance > 1e-8L)) return;  // too close to call in double
         if (ref_hit != (target < 0)) return;
         ++checked;
@@ -697,7 +697,7 @@ TEST_CASE("GJK cold boolean with and without momentum agrees with long double ne
             const auto r = gjk_intersect(a, pa, b, pb, nullptr, settings[m]);
             iterations[m] += r.iterations;
             if (curved && !ref_hit && m < 2) curved_close[m] += r.iterations;
-            if (r.colliding() != ref_hit) { ++wrong; continue; }
+            if (r.colliding != ref_hit) { ++wrong; continue; }
             if (r.status != GjkStatus::separated) continue;
             const Vec3<double> n = r.normal;
             const double ha = n.dot(pa * Vec3<double>(a.support(pa.R.transpose() * n)));

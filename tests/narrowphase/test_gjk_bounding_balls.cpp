@@ -111,8 +111,8 @@ TEST_CASE("bounding-ball pre-test changes no boolean answer at the balls' bounda
                 ++cases;
                 const auto on = gjk_intersect(a, pa, b, pb);
                 const auto plain = gjk_intersect(a, pa, b, pb, nullptr, off);
-                if (on.colliding() != plain.colliding()) ++differ;
-                if (on.iterations == 0) (on.colliding() ? decided_in : decided_out) += 1;
+                if (on.colliding != plain.colliding) ++differ;
+                if (on.iterations == 0) (on.colliding ? decided_in : decided_out) += 1;
                 if (on.iterations == 0 && on.status == GjkStatus::separated) {
                     // Certified: the planes through point_a / point_b orthogonal to the normal bound the shapes.
                     const Vec3<double> n = on.normal;
@@ -127,7 +127,7 @@ TEST_CASE("bounding-ball pre-test changes no boolean answer at the balls' bounda
                 if (spheres && std::abs(f) >= 1e-9) {
                     // Closed form: the spheres overlap iff their centre distance is below r_a + r_b.
                     const bool hit = f < 0;  // both balls are the spheres themselves
-                    if (on.colliding() != hit) ++sphere_wrong;
+                    if (on.colliding != hit) ++sphere_wrong;
                 }
             }
     };

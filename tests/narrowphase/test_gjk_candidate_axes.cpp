@@ -114,7 +114,7 @@ void run_pair(const A& a, const AL& a_l, const B& b, const BL& b_l, bool boxes, 
         const auto off = gjk_intersect(a, pa, b, pb, nullptr, plain);
         // The plain loop's answer wherever it is decisive and right; elsewhere (within the rounding of contact) the
         // candidate may only have found a plane the loop could not certify, which the checks below examine.
-        if (decisive && off.colliding() == ref.colliding() && on.status != off.status) ++t.differ;
+        if (decisive && off.colliding == ref.colliding && on.status != off.status) ++t.differ;
         const bool candidate = candidate_exit(on, a, pa, b, pb);
         if (boxes && g >= 1e-4) {
             ++t.close_box;

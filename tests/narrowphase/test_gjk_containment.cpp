@@ -277,16 +277,16 @@ TEST_CASE("containment certificate changes no boolean answer near contact", "[gj
                 const bool decisive = ref.status == GjkStatus::intersecting ||
                                       (ref.status == GjkStatus::separated && ref.distance > L(1e-12 * size));
                 if (decisive) {
-                    const bool truth = ref.colliding();
-                    if (on.colliding() != truth && certified) ++certified_wrong;
+                    const bool truth = ref.colliding;
+                    if (on.colliding != truth && certified) ++certified_wrong;
                     // (A "touching" of the plain loop may become "intersecting" when a point is certified strictly
                     // inside the other shape: a proof of overlap beyond the loop's tolerance.)
                     const bool proven_deeper = plain.status == GjkStatus::touching && certified;
                     const bool status_differs = on.status != plain.status && !proven_deeper;
-                    if (plain.colliding() == truth && (on.colliding() != truth || status_differs)) ++differ;
-                    if (plain.colliding() != truth && on.colliding() == truth) ++corrected;
-                    if (plain.colliding() != truth && on.colliding() != truth) ++both_wrong;
-                    plain_wrong += plain.colliding() != truth;
+                    if (plain.colliding == truth && (on.colliding != truth || status_differs)) ++differ;
+                    if (plain.colliding != truth && on.colliding == truth) ++corrected;
+                    if (plain.colliding != truth && on.colliding != truth) ++both_wrong;
+                    plain_wrong += plain.colliding != truth;
                 }
             }
             if (g <= -1e-6) {
@@ -357,7 +357,7 @@ TEST_CASE("containment certificate agrees with the plain loop on random overlapp
         const auto plain = gjk_intersect(a, pa, b, pb, nullptr, off);
         ++n;
         differ += on.status != plain.status;
-        colliding += plain.colliding();
+        colliding += plain.colliding;
         fired += on.iterations >= 1 && on.status == GjkStatus::intersecting && on.simplex.size == 0;
     };
     for (int k = 0; k < test::scaled(3000, 300); ++k) {

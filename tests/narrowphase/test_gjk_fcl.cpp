@@ -161,7 +161,7 @@ CaseResult one_case(const A& a, const AL& al, const B& b, const BL& bl, std::mt1
     const fcl::Transform3d ta = to_fcl(pa), tb = to_fcl(pb);
     const fcl::detail::GJKSolver_indep<double> indep;
     const fcl::detail::GJKSolver_libccd<double> lccd;
-    r.cd_hit = gjk_intersect(a, pa, b, pb).colliding();
+    r.cd_hit = gjk_intersect(a, pa, b, pb).colliding;
     r.indep_hit = indep.shapeIntersect(fa, ta, fb, tb, nullptr);
     r.ccd_hit = lccd.shapeIntersect(fa, ta, fb, tb, nullptr);
     if (r.ref_hit) return r;

@@ -41,7 +41,7 @@ template <class Shape> void nested(const Shape& inner, const Shape& outer, std::
     for (int q = 0; q < 4; ++q) {
         t.intersecting[q] += r[q].status == GjkStatus::intersecting;
         t.separated[q] += r[q].status == GjkStatus::separated;
-        CHECK(r[q].colliding());
+        CHECK(r[q].colliding);
         if (r[q].status == GjkStatus::intersecting) CHECK(r[q].distance == 0.0);
     }
 }

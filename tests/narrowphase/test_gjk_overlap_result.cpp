@@ -34,7 +34,7 @@ template <class A, class B> void check_overlaps(const A& a, const B& b, std::mt1
         const auto cold = gjk_intersect(a, pa, b, pb);
         CHECK(cold.status == GjkStatus::intersecting);
         CHECK(cold.distance == 0.0);
-        CHECK(cold.colliding());
+        CHECK(cold.colliding);
         if (cold.iterations > 0) {
             ++loop_proofs;
             // The certificate: the tetrahedron around the origin, or (no simplex) a support point strictly inside

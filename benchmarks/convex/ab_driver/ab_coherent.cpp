@@ -40,7 +40,7 @@ double CAT(coh_, VARIANT)(int scene, int method, int reps, double* sig) {
             SeparatingPlaneCache<double> plane;
             for (const auto& f : frames) {
                 asm volatile("" ::: "memory");
-                const auto r = separating_plane_intersect(setup.a, f.pa, setup.b, f.pb, plane);
+                const auto r = separating_plane_intersect(setup.a, f.pa, setup.b, f.pb, &plane);
                 s += r.colliding + 3 * r.used_gjk + 5 * r.iterations + plane.n.sum() + plane.c;
             }
             continue;

@@ -52,7 +52,7 @@ template <class Sh> double time_set(const Set<Sh>& s, int reps, double* it, long
     *it = 0; *hits = 0; *sig = 0;
     for (std::size_t k = 0; k < s.A.size(); ++k) {
         auto r = gjk_intersect(s.A[k], s.PA[k], s.B[k], s.PB[k]);
-        *it += r.iterations; *hits += r.colliding();
+        *it += r.iterations; *hits += r.colliding;
         *sig += r.distance + r.normal.sum() + r.point_a.sum() + 3 * r.point_b.sum() + int(r.status) * 7;
     }
     return (t1 - t0) / (double(reps) * s.A.size() * 16);

@@ -96,7 +96,7 @@ template <SupportMapped A, SupportMapped B>
         const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
         out.point_a = g.point_a, out.point_b = g.point_b, out.normal = g.normal;
         out.toi = t;
-        if (g.colliding() || g.status == GjkStatus::max_iterations || g.status == GjkStatus::degenerate ||
+        if (g.colliding || g.status == GjkStatus::max_iterations || g.status == GjkStatus::degenerate ||
             g.distance <= request.tolerance) {
             // Contact (or a GJK that could not certify a separation: conservative).
             out.colliding = true;

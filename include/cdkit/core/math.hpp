@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cdkit/core/status.hpp>
+
 #include <cmath>
 #include <limits>
 
@@ -53,14 +55,6 @@ template <class S> struct Transform {
     }
 };
 
-/// Outcome of a query's input check. Queries refuse poses that are not rigid motions (NaN/Inf, scale,
-/// shear, reflection) instead of returning an answer that looks valid but is not: the BV tests assume a
-/// rotation, and NaN would make every test false ("no collision").
-enum class QueryStatus {
-    ok,
-    invalid_pose,   ///< a pose failed pose_is_usable(); the result holds no answer
-    invalid_input,  ///< an input point, size or setting was NaN, infinite or out of range; no answer
-};
 
 /// The gate the queries apply: finite, and orthonormal with det +1 to within sqrt(eps) — loose enough for
 /// rotations accumulated over a long simulation without re-orthonormalising, tight enough to refuse

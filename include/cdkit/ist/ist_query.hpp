@@ -87,7 +87,7 @@ struct PenetrationVolumeResult {
     double calibrated = 0;       ///< Σ lens(cell sphere a, cell sphere b) over the pairs: estimate of the meshes' intersection volume
     std::vector<OverlappingSpheres> pairs;  ///< every overlapping pair found (all of them when complete)
     IstQueryStats stats;
-    [[nodiscard]] bool overlapping() const noexcept { return volume_upper > 0; }
+    bool colliding = false;      ///< volume_upper > 0: some inner spheres may overlap
 };
 
 /// Result of sphere_distance(). Points in the world frame.
@@ -120,9 +120,9 @@ struct IstDistanceResult {
 /// whether it is exact).
 struct IstQueryResult {
     QueryStatus status = QueryStatus::ok;
-    bool overlapping = false;        ///< some inner spheres overlap (volume > 0)
+    bool colliding = false;          ///< some inner spheres overlap (volume > 0)
     PenetrationVolumeResult volume;  ///< always filled
-    IstDistanceResult distance;      ///< filled only when !overlapping (distance 0 otherwise)
+    IstDistanceResult distance;      ///< filled only when !colliding (distance 0 otherwise)
     IstQueryStats stats;             ///< total work of the query
 };
 [[nodiscard]] IstQueryResult ist_query(const InnerSphereTree& a, const Transform<double>& pose_a,

@@ -87,9 +87,7 @@ template <class S> struct ClosestFeatureResult {
     int iterations = 0;     ///< walk steps
     bool cycle = false;     ///< the walk revisited a feature pair (then GJK answered)
     bool used_gjk = false;  ///< GJK answered (cycle, step cap, missing topology)
-    [[nodiscard]] bool colliding() const noexcept {
-        return status == GjkStatus::touching || status == GjkStatus::intersecting;
-    }
+    bool colliding = false;  ///< `is_colliding(status)`: touching or intersecting
 };
 
 namespace detail {
@@ -343,15 +341,12 @@ template <class S> [[nodiscard]] inline bool feature_in_range(const ConvexPolyhe
 
 }  // namespace detail
 
-/// Distance between convex polyhedra `a` at `pose_a` and `b` at `pose_b` by walking their closest features,
-/// starting from `cache`'s pair (or from the support vertices along the centre line when the cache is empty
-/// or stale) and storing the final pair there. Closest points, normal and distance in the world frame.
-/// Const, noexcept, thread-safe with one cache per thread and pair.
+namespace detail {
 template <class S>
-[[nodiscard]] inline ClosestFeatureResult<S> closest_features(const ConvexPolyhedron<S>& a, const Transform<S>& pose_a,
-                                                              const ConvexPolyhedron<S>& b, const Transform<S>& pose_b,
-                                                              ClosestFeatureCache<S>* cache = nullptr,
-                                                              const ClosestFeatureSettings<S>& settings = {}) noexcept {
+[[nodiscard]] inline ClosestFeatureResult<S> closest_feature_walk(const ConvexPolyhedron<S>& a, const Transform<S>& pose_a,
+                                                                  const ConvexPolyhedron<S>& b, const Transform<S>& pose_b,
+                                                                  ClosestFeatureCache<S>* cache,
+                                                                  const ClosestFeatureSettings<S>& settings) noexcept {
     ClosestFeatureResult<S> r;
     // Per-component rotations (detail::relative_pose, place, rotate, rotate_back): Eigen's 3×3 products were
     // out-of-line calls in this per-frame path.
@@ -470,6 +465,22 @@ template <class S>
         return r;
     }
     return fallback(fa, fb);
+}
+
+}  // namespace detail
+
+/// Distance between convex polyhedra `a` at `pose_a` and `b` at `pose_b` by walking their closest features,
+/// starting from `cache`'s pair (or from the support vertices along the centre line when the cache is empty
+/// or stale) and storing the final pair there. Closest points, normal and distance in the world frame.
+/// Const, noexcept, thread-safe with one cache per thread and pair.
+template <class S>
+[[nodiscard]] inline ClosestFeatureResult<S> closest_features(const ConvexPolyhedron<S>& a, const Transform<S>& pose_a,
+                                                              const ConvexPolyhedron<S>& b, const Transform<S>& pose_b,
+                                                              ClosestFeatureCache<S>* cache = nullptr,
+                                                              const ClosestFeatureSettings<S>& settings = {}) noexcept {
+    ClosestFeatureResult<S> r = detail::closest_feature_walk(a, pose_a, b, pose_b, cache, settings);
+    r.colliding = is_colliding(r.status);
+    return r;
 }
 
 }  // namespace cdkit

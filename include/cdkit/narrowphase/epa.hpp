@@ -48,6 +48,7 @@ template <class S> struct PenetrationResult {
     /// World-frame witness points: point_a on A's boundary, point_b on B's boundary, point_a − point_b =
     /// depth·normal when intersecting (the deepest points); the closest points when separated.
     Vec3<S> point_a = Vec3<S>::Zero(), point_b = Vec3<S>::Zero();
+    bool colliding = false;  ///< `is_colliding(status)`: touching or intersecting
 };
 
 namespace detail {
@@ -446,6 +447,7 @@ template <SupportMapped A, SupportMapped B>
     if constexpr (detail::refines_near_contact<S>) {
         if (r.status == GjkStatus::degenerate) detail::refine_penetration(a, pose_a, b, pose_b, settings, r);
     }
+    r.colliding = is_colliding(r.status);
     return r;
 }
 

@@ -66,27 +66,6 @@
 
 namespace cdkit {
 
-/// Outcome of a GJK query.
-enum class GjkStatus {
-    separated,       ///< distance > 0 (beyond the touching tolerance)
-    touching,        ///< distance within the touching tolerance of 0: contact, no proven overlap volume
-    intersecting,    ///< the shapes overlap (origin strictly inside the Minkowski difference / margins overlap)
-    max_iterations,  ///< iteration cap reached; the result holds the best bound found
-    degenerate,      ///< numerical trouble (non-finite support point); the result holds the best bound found
-};
-
-/// Name of a status, for messages and reports ("separated", "touching", ...).
-[[nodiscard]] inline const char* to_string(GjkStatus s) noexcept {
-    switch (s) {
-        case GjkStatus::separated: return "separated";
-        case GjkStatus::touching: return "touching";
-        case GjkStatus::intersecting: return "intersecting";
-        case GjkStatus::max_iterations: return "max_iterations";
-        case GjkStatus::degenerate: return "degenerate";
-    }
-    return "?";
-}
-
 /// Tuning of a GJK query. Tolerances are relative; GJK scales them with the size of the shapes.
 template <class S = double> struct GjkSettings {
     /// Iteration cap (then `max_iterations`, with the best bound found). GJK converges linearly on curved shapes,
@@ -199,9 +178,8 @@ template <class S> struct GjkResult {
     Vec3<S> normal = Vec3<S>::Zero();
     /// Final simplex on the cores, in A's local frame (used by EPA).
     GjkSimplex<S> simplex{};
-    [[nodiscard]] bool colliding() const noexcept {
-        return status == GjkStatus::touching || status == GjkStatus::intersecting;
-    }
+    /// `is_colliding(status)`: touching or intersecting.
+    bool colliding = false;
 };
 
 namespace detail {
@@ -1976,10 +1954,11 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
     GjkResult<S> r;
     if (boolean && !cache) {
         gjk_intersect_cold(a, pose_a, b, pose_b, settings, r);
+        r.colliding = is_colliding(r.status);
         return r;
     }
     if (boolean && retry_cached_direction && cache->size > 0) {
-        if (warm_direction_separates(a, pose_a, b, pose_b, settings, *cache, r)) return r;
+        if (warm_direction_separates(a, pose_a, b, pose_b, settings, *cache, r)) return r;  // separated
         // Tried, in world axes: the loop starts from the rebuilt cache (its first slot now holds that pair).
     }
     const Transform<S> rel = relative_pose(pose_a, pose_b);
@@ -2002,6 +1981,7 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
                             tolerance_met))
             refine_near_contact(a, pose_a, b, pose_b, settings, r);
     }
+    r.colliding = is_colliding(r.status);
     return r;
 }
 
@@ -2022,7 +2002,7 @@ template <SupportMapped A, SupportMapped B>
 }
 
 /// Boolean intersection test with early exit as soon as a separating plane is found. `status` is
-/// `separated`, `touching` or `intersecting` (or `max_iterations`/`degenerate`); use `colliding()`.
+/// `separated`, `touching` or `intersecting` (or `max_iterations`/`degenerate`); `colliding` says touching or intersecting.
 /// Guarantee: `separated` is only answered with a proven plane — a direction u and a support point w of A − B
 /// along −u with u·w/|u| above the touching tolerance (256ε·size; van den Bergen 1999's lower bound), or
 /// disjoint bounding balls; `normal` is that direction and `distance` that bound (≤ the true distance, up to

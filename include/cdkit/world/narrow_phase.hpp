@@ -81,7 +81,7 @@ std::optional<WorldContact<S>> convex_vs_mesh(const Convex& c, const Aabb<S>& c_
             const auto t = mesh.triangle(order[i]);
             const ConvexTriangle<S> tri(t[0], t[1], t[2]);  // vertices were validated with the mesh
             const GjkResult<S> g = gjk_intersect(tri, Transform<S>{}, c, c_in_m);
-            if (!g.colliding()) continue;
+            if (!g.colliding) continue;
             const PenetrationResult<S> p = penetration(tri, Transform<S>{}, c, c_in_m);
             WorldContact<S> w;
             w.method = PairMethod::convex_mesh;
@@ -109,7 +109,7 @@ template <class S>
         out = a.visit_convex([&](const auto& ca) {
             return b.visit_convex([&](const auto& cb) -> std::optional<WorldContact<S>> {
                 const GjkResult<S> g = gjk_intersect(ca, pa, cb, pb, cache);
-                if (!g.colliding()) return std::nullopt;
+                if (!g.colliding) return std::nullopt;
                 const PenetrationResult<S> p = penetration(ca, pa, cb, pb);
                 WorldContact<S> w;
                 w.method = PairMethod::convex_convex;

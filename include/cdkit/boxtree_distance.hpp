@@ -19,7 +19,7 @@
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bvh/boxtree.hpp"
-#include "cdkit/bvh/boxtree_collide.hpp"
+#include "cdkit/boxtree_collide.hpp"
 #include "cdkit/distance.hpp"
 
 #include <algorithm>

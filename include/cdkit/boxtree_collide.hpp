@@ -21,6 +21,8 @@
 #include "cdkit/bvh/boxtree.hpp"
 #include "cdkit/query.hpp"
 
+#include <type_traits>
+
 namespace cdkit {
 
 namespace detail {
@@ -172,8 +174,8 @@ template <class S>
 /// that are not rigid motions give status invalid_pose and no answer. `stats.bv_tests` counts descent steps
 /// (each a re-aligned face test), the root's 15-axis box test and the leaf pairs' triangle box tests.
 template <class S>
-[[nodiscard]] CollisionResult<S> collide(const RestrictedBoxtree<S>& a, const Transform<S>& pose_a,
-                                         const RestrictedBoxtree<S>& b, const Transform<S>& pose_b,
+[[nodiscard]] CollisionResult<S> collide(const RestrictedBoxtree<S>& a, const std::type_identity_t<Transform<S>>& pose_a,
+                                         const RestrictedBoxtree<S>& b, const std::type_identity_t<Transform<S>>& pose_b,
                                          const CollisionRequest& request = {}) {
     using Node = BoxtreeNode;
     CollisionResult<S> out;
