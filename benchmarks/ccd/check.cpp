@@ -12,6 +12,7 @@
 // has run ≥ 2 µs (steady_clock), divided by the repetitions. Exit status 1 when there is a false negative.
 
 #include "oracles/ccd_query_file.hpp"
+#include "../provenance.hpp"
 
 #include <cdkit/ccd/deformable_ccd.hpp>
 #include <cdkit/ccd/edge_edge.hpp>
@@ -141,29 +142,6 @@ std::size_t check_scenes(const std::string& dir, const cdkit::CcdRequest& primit
     return missed_total;
 }
 
-/// The first line a shell command prints, trimmed ("?" when it prints nothing).
-std::string first_line(const char* command) {
-    std::string out;
-    if (std::FILE* p = popen(command, "r")) {
-        char buf[256];
-        if (std::fgets(buf, sizeof buf, p)) out = buf;
-        pclose(p);
-    }
-    while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
-    while (!out.empty() && out.front() == ' ') out.erase(out.begin());
-    return out.empty() ? "?" : out;
-}
-
-/// Provenance first, as comment lines: what ran, where, built how (scripts/render-results prints them).
-void write_provenance(std::FILE* out, int argc, char** argv) {
-    std::string command;
-    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
-    std::fprintf(out, "# command: %s\n# machine: %s\n# compiler: %s\n# commit: %s\n# date: %s\n", command.c_str(),
-                 first_line("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2").c_str(), __VERSION__,
-                 first_line("git -C " CDKIT_SOURCE_DIR " rev-parse --short HEAD").c_str(),
-                 first_line("date -u +%Y-%m-%dT%H:%M:%SZ").c_str());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -200,7 +178,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (csv_out) {
-        write_provenance(csv_out, argc, argv);
+        cdbench::write_provenance(csv_out, argc, argv);
         std::fprintf(csv_out, "file,kind,queries,positives,false_negatives,false_positives,capped,median_us,p99_us,max_us\n");
     }
     std::printf("tolerance %g, min separation %g, max boxes %u\n", req.tolerance, req.min_separation, req.max_boxes);
@@ -246,7 +224,7 @@ int main(int argc, char** argv) {
     if (!scenes.empty()) {
         std::FILE* scene_csv = nullptr;
         if (!csv.empty()) scene_csv = std::fopen((csv.substr(0, csv.rfind('.')) + "_scenes.csv").c_str(), "w");
-        if (scene_csv) write_provenance(scene_csv, argc, argv);
+        if (scene_csv) cdbench::write_provenance(scene_csv, argc, argv);
         try {
             missed = check_scenes(scenes, req, scene_csv);
         } catch (const std::exception& e) {

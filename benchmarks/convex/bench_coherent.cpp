@@ -4,6 +4,7 @@
 // precomputed poses. Error rates against a long-double reference (cdkit's GJK in long double, tight tolerance, on
 // the shapes placed in the world frame).
 // Usage: cdkit_bench_coherent [frames=2000] [repetitions=5] [csv_path]
+#include "../provenance.hpp"
 #include <cdkit/narrowphase/closest_features.hpp>
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/gjk.hpp>
@@ -120,6 +121,7 @@ int main(int argc, char** argv) {
     const int frames = argc > 1 ? std::max(batch, std::atoi(argv[1])) : 2000;
     const int reps = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
     std::FILE* csv = argc > 3 ? std::fopen(argv[3], "w") : nullptr;
+    if (csv) cdbench::write_provenance(csv, argc, argv);
     std::mt19937_64 rng(cdbench::coherent_seed);
     const cdbench::CoherentPoints pts = cdbench::coherent_points(rng);
     const ConvexPolyhedron<double> a(pts.a), b(pts.b);
@@ -174,7 +176,7 @@ int main(int argc, char** argv) {
         auto reset_plane0 = [&] { sc0.valid = false; sc0.gjk.size = 0; };
         SeparatingPlaneSettings no_repair;
         no_repair.repair_iterations = 0;
-        Method plane0{"plane, no repair", false, reset_plane0, [&](std::size_t f, Outcome& o) {
+        Method plane0{"plane without repair", false, reset_plane0, [&](std::size_t f, Outcome& o) {
                           auto r = separating_plane_intersect(a, s.frames[f].pa, b, s.frames[f].pb, &sc0, no_repair);
                           o.hit[f] = r.colliding;
                           o.iterations += r.iterations;

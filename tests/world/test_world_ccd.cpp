@@ -1,5 +1,5 @@
-// World::set_ccd: a fast object's motion between two steps is tested as a whole (convex pairs by conservative
-// advancement, mesh pairs by mesh_ccd), including motions that turn, whose arcs leave the boxes of the end poses.
+// World::set_ccd: a fast object's motion between two steps is tested as a whole (convex pairs and convex–mesh pairs by
+// conservative advancement, meshes by mesh_ccd or, turning, mesh_toi), including arcs that leave the end poses' boxes.
 
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
@@ -78,4 +78,44 @@ TEST_CASE("World CCD: meshes, discrete pairs untouched, bad ids", "[world][ccd]"
     CHECK(r.contacts[0].toi < 1);
     CHECK(r.contacts[0].method == cdkit::PairMethod::mesh_mesh);
     CHECK_THROWS_AS(w.set_ccd(99, true), cdkit::Error);
+}
+
+TEST_CASE("World CCD: convex shapes against meshes, and turning meshes", "[world][ccd]") {
+    for (bool ccd : {false, true}) {
+        // A small fast box through a thin mesh plate: mesh_convex_toi catches it; without CCD it tunnels.
+        cdkit::World<double> w;
+        const auto plate = w.add(cdkit::Shape<double>::mesh(cdkit::test::grid_box<double>(V(1, 1, 0.001), 2)), T());
+        const auto bullet = w.add(cdkit::Shape<double>::box(V(0.01, 0.01, 0.01)), T::translation(V(0.3, 0.2, 1)));
+        w.set_ccd(bullet, ccd);
+        CHECK(w.step().contacts.empty());
+        w.set_pose(bullet, T::translation(V(0.3, 0.2, -1)));
+        const auto r = w.step();
+        if (!ccd) {
+            CHECK(r.contacts.empty());
+            continue;
+        }
+        REQUIRE(r.contacts.size() == 1);
+        CHECK(r.contacts[0].a == plate);
+        CHECK(r.contacts[0].method == cdkit::PairMethod::convex_mesh);
+        // The box's bottom (z = 1 − 0.01) meets the plate's top (z = 0.001) after 0.989 of 2 units.
+        CHECK(r.contacts[0].toi <= 0.989 / 2);
+        CHECK(r.contacts[0].toi >= 0.989 / 2 - 1e-6);
+    }
+    // A mesh bar turning 170° past a sphere that neither end pose touches: the bar's broad box covers its arcs and
+    // mesh_convex_toi follows them (the same for a mesh ball, where mesh_toi does).
+    for (bool mesh_ball : {false, true}) {
+        cdkit::World<double> w;
+        const auto bar = w.add(cdkit::Shape<double>::mesh(cdkit::test::grid_box<double>(V(0.02, 0.02, 1.0), 2)), T());
+        const auto ball = mesh_ball ? w.add(cdkit::Shape<double>::mesh(cdkit::test::uv_sphere<double>(0.05, 8, 12)),
+                                            T::translation(V(0, 0.9, 0)))
+                                    : w.add(cdkit::Shape<double>::sphere(0.05), T::translation(V(0, 0.9, 0)));
+        w.set_ccd(bar, true);
+        CHECK(w.step().contacts.empty());
+        w.set_pose(bar, T(Eigen::AngleAxisd(170 * M_PI / 180, V::UnitX()).toRotationMatrix(), V::Zero()));
+        const auto r = w.step();
+        REQUIRE(r.contacts.size() == 1);
+        CHECK(r.contacts[0].b == ball);
+        CHECK(r.contacts[0].toi > 0.3);
+        CHECK(r.contacts[0].toi < 0.6);
+    }
 }

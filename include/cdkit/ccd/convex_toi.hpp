@@ -15,10 +15,12 @@
 /// A pure translation (equal rotations at both ends) is the shape cast.
 
 #include "cdkit/ccd/ccd_result.hpp"
+#include "cdkit/core/mesh.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 namespace cdkit {
 
@@ -71,41 +73,49 @@ struct PoseMotion {
 
 }  // namespace detail
 
-/// First time in [0, 1] at which `a` (moving from pose a_start to a_end) and `b` (b_start to b_end) come within
-/// request.tolerance, by conservative advancement on GJK distance with a warm-started cache. Const, thread-safe.
-template <SupportMapped A, SupportMapped B>
-    requires std::same_as<typename A::Scalar, double> && std::same_as<typename B::Scalar, double>
-[[nodiscard]] ToiResult convex_toi(const A& a, const Transform<double>& a_start, const Transform<double>& a_end,
-                                   const B& b, const Transform<double>& b_start, const Transform<double>& b_end,
-                                   const ToiRequest& request = {}) {
+namespace detail {
+
+/// One distance query of the advancement at time t: whether the objects touch (or the query could not certify
+/// a separation), their distance, and the closest points and unit direction from the first to the second.
+struct AdvanceStep {
+    bool contact = false;
+    double distance = 0;
+    Vec3<double> point_a = Vec3<double>::Zero(), point_b = Vec3<double>::Zero(), normal = Vec3<double>::Zero();
+};
+
+/// Radius of a mesh about its origin when `motion` turns it (0 when it does not: a translation needs none).
+/// O(vertices), once per query.
+[[nodiscard]] inline double turning_radius(const TriangleMesh<double>& mesh, const PoseMotion& motion) noexcept {
+    double r = 0;
+    if (motion.angle > 0)
+        for (const Vec3<double>& v : mesh.vertices) r = std::max(r, v.norm());
+    return r * (1 + 1e-12);
+}
+
+/// The advancement loop shared by the convex, the mesh–convex and the mesh–mesh time of impact. `distance_at(pa, pb)` answers
+/// at the poses of time t. With `separating_normal` (two convex shapes) the plane through the closest points
+/// orthogonal to n separates the whole shapes, so only the approach along n counts: (v_a − v_b)·n; otherwise
+/// (a mesh: the closest pair may switch to another part) any point may approach at up to |v_a − v_b|. Both add the
+/// rotations' |ω|·r. Every step is a lower bound on the first contact time.
+template <class DistanceAt>
+[[nodiscard]] ToiResult advance(const PoseMotion& ma, const PoseMotion& mb, double spin, bool separating_normal,
+                                const ToiRequest& request, DistanceAt&& distance_at) {
     ToiResult out;
-    if (!detail::motion_poses_usable({&a_start, &a_end, &b_start, &b_end})) {
-        out.status = QueryStatus::invalid_pose;
-        return out;
-    }
-    if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.max_iterations < 1) {
-        out.status = QueryStatus::invalid_input;
-        return out;
-    }
-    const detail::PoseMotion ma(a_start, a_end), mb(b_start, b_end);
-    const double spin = ma.angle * detail::radius_about_origin(a) + mb.angle * detail::radius_about_origin(b);
-    GjkCache<double> cache;
+    const double sweep = (ma.velocity - mb.velocity).norm();
     double t = 0;
     for (out.iterations = 1; out.iterations <= request.max_iterations; ++out.iterations) {
-        const Transform<double> pa = ma.at(t), pb = mb.at(t);
-        const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
+        const AdvanceStep g = distance_at(ma.at(t), mb.at(t));
         out.point_a = g.point_a, out.point_b = g.point_b, out.normal = g.normal;
         out.toi = t;
-        if (g.colliding || g.status == GjkStatus::max_iterations || g.status == GjkStatus::degenerate ||
-            g.distance <= request.tolerance) {
-            // Contact (or a GJK that could not certify a separation: conservative).
-            out.colliding = true;
+        if (g.contact || g.distance <= request.tolerance) {
+            out.colliding = true;  // contact, or a query that could not certify a separation: conservative
             return out;
         }
-        // GJK's distance holds to its relative tolerance; the advancement uses a slightly smaller one.
+        // The distances hold to a relative tolerance of their query; the advancement uses a slightly smaller one.
         const double d = g.distance * (1 - 1e-8) - request.tolerance * 0.5;
-        const double approach = std::max(0.0, (ma.velocity - mb.velocity).dot(g.normal)) + spin;
-        if (!(approach > 0)) {  // nothing gains on anything along n: the gap along n never closes
+        const double approach =
+            (separating_normal ? std::max(0.0, (ma.velocity - mb.velocity).dot(g.normal)) : sweep) + spin;
+        if (!(approach > 0)) {  // nothing gains on anything: the gap never closes
             out.toi = 1;
             return out;
         }
@@ -118,6 +128,38 @@ template <SupportMapped A, SupportMapped B>
     out.capped = true;
     out.colliding = true;
     return out;
+}
+
+/// The request and poses every time-of-impact query checks first; a status other than ok ends the query.
+[[nodiscard]] inline QueryStatus toi_inputs_usable(std::initializer_list<const Transform<double>*> poses,
+                                                   const ToiRequest& request) noexcept {
+    if (!motion_poses_usable(poses)) return QueryStatus::invalid_pose;
+    if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.max_iterations < 1)
+        return QueryStatus::invalid_input;
+    return QueryStatus::ok;
+}
+
+}  // namespace detail
+
+/// First time in [0, 1] at which `a` (moving from pose a_start to a_end) and `b` (b_start to b_end) come within
+/// request.tolerance, by conservative advancement on GJK distance with a warm-started cache. Const, thread-safe.
+template <SupportMapped A, SupportMapped B>
+    requires std::same_as<typename A::Scalar, double> && std::same_as<typename B::Scalar, double>
+[[nodiscard]] ToiResult convex_toi(const A& a, const Transform<double>& a_start, const Transform<double>& a_end,
+                                   const B& b, const Transform<double>& b_start, const Transform<double>& b_end,
+                                   const ToiRequest& request = {}) {
+    ToiResult out;
+    out.status = detail::toi_inputs_usable({&a_start, &a_end, &b_start, &b_end}, request);
+    if (out.status != QueryStatus::ok) return out;
+    const detail::PoseMotion ma(a_start, a_end), mb(b_start, b_end);
+    const double spin = ma.angle * detail::radius_about_origin(a) + mb.angle * detail::radius_about_origin(b);
+    GjkCache<double> cache;
+    return detail::advance(ma, mb, spin, true, request, [&](const Transform<double>& pa, const Transform<double>& pb) {
+        const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
+        return detail::AdvanceStep{g.colliding || g.status == GjkStatus::max_iterations ||
+                                       g.status == GjkStatus::degenerate,
+                                   g.distance, g.point_a, g.point_b, g.normal};
+    });
 }
 
 }  // namespace cdkit

@@ -48,6 +48,7 @@ struct RayCastResult {
     bool hit = false;
     std::vector<RayHit> hits;  ///< closest / any: at most one; all: every hit, by increasing t
     std::uint64_t bv_tests = 0, triangle_tests = 0;
+    bool capped = false;  ///< convex casts only: out of steps, the hit is the conservative answer
 };
 
 namespace detail {

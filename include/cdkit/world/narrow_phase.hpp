@@ -5,8 +5,9 @@
 ///   convex – convex : GJK boolean test (warm-started from the caller's per-pair GjkCache; van den Bergen,
 ///                     JGT 1999), then EPA for depth, normal and witness points (van den Bergen, GDC 2001);
 ///   mesh – mesh     : collide() on the two OBB trees (first intersecting triangle pair as the witness);
-///   convex – mesh   : descent of the mesh's OBB tree with the convex shape's box carried into the mesh
-///                     frame, then GJK of the shape against each triangle of the overlapping leaves.
+///   convex – mesh   : collide(mesh, pose, shape, pose) of mesh_convex/collide.hpp: descent of the mesh's OBB tree
+///                     against the shape's bound in the mesh frame, then the exact sphere / capsule test or GJK
+///                     of the shape against each triangle of the overlapping leaves.
 ///
 /// Contacts that involve a mesh are surface contacts (a triangle touches or crosses the other shape): a
 /// convex shape lying wholly inside a closed mesh is *not* reported, and no penetration depth is given
@@ -17,6 +18,9 @@
 #include "cdkit/bvh/traverse.hpp"
 #include "cdkit/ccd/convex_toi.hpp"
 #include "cdkit/ccd/mesh_ccd.hpp"
+#include "cdkit/ccd/mesh_convex_toi.hpp"
+#include "cdkit/ccd/mesh_toi.hpp"
+#include "cdkit/mesh_convex/collide.hpp"
 #include "cdkit/narrowphase/epa.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 #include "cdkit/query.hpp"
@@ -52,45 +56,19 @@ template <class S = double> struct WorldContact {
 
 namespace detail {
 
-/// The convex shape `c` (at `pose_c`) against mesh `m` (at `pose_m`): first touching triangle, or nothing.
+/// The convex shape `c` (at `pose_c`) against mesh `m` (at `pose_m`): first touching triangle, or nothing. The
+/// public mesh–convex query (mesh_convex/collide.hpp) does the work; its witness is a point of the triangle inside
+/// the shape. `c_bounds` is no longer needed (the query bounds the shape itself) and kept for the call below.
 template <class S, class Convex>
-std::optional<WorldContact<S>> convex_vs_mesh(const Convex& c, const Aabb<S>& c_bounds, const Transform<S>& pose_c,
-                                              const WorldMeshModel<S>& m, const Transform<S>& pose_m) noexcept {
-    const Transform<S> c_in_m = pose_m.inverse() * pose_c;
-    // The shape's local box as an OBB in the mesh frame; BVH nodes are tested against it directly.
-    Obb<S> probe;
-    probe.axes = c_in_m.R;
-    probe.center = c_in_m * c_bounds.center;
-    probe.half = c_bounds.half;
-    const auto rel = Obb<S>::relative(Transform<S>{});
-    const auto& nodes = m.bvh().nodes();
-    const auto& order = m.bvh().triangle_order();
-    const auto& mesh = m.mesh();
-    if (nodes.empty()) return std::nullopt;
-    SmallStack<std::uint32_t, 64> stack;
-    stack.push(0);
-    while (!stack.empty()) {
-        const auto& node = nodes[stack.pop()];
-        if (!overlap(node.bv, probe, rel)) continue;
-        if (!node.is_leaf()) {
-            stack.push(node.first);
-            stack.push(node.first + 1);
-            continue;
-        }
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-            const auto t = mesh.triangle(order[i]);
-            const ConvexTriangle<S> tri(t[0], t[1], t[2]);  // vertices were validated with the mesh
-            const GjkResult<S> g = gjk_intersect(tri, Transform<S>{}, c, c_in_m);
-            if (!g.colliding) continue;
-            const PenetrationResult<S> p = penetration(tri, Transform<S>{}, c, c_in_m);
-            WorldContact<S> w;
-            w.method = PairMethod::convex_mesh;
-            w.point_a = w.point_b = pose_m * Vec3<S>((p.point_a + p.point_b) / S(2));
-            w.gjk_iterations = g.iterations;
-            return w;
-        }
-    }
-    return std::nullopt;
+std::optional<WorldContact<S>> convex_vs_mesh(const Convex& c, [[maybe_unused]] const Aabb<S>& c_bounds,
+                                              const Transform<S>& pose_c, const WorldMeshModel<S>& m,
+                                              const Transform<S>& pose_m) noexcept {
+    const MeshConvexResult<S> r = cdkit::collide(m, pose_m, c, pose_c, MeshConvexRequest{ContactMode::first});
+    if (!r.colliding || r.contacts.empty()) return std::nullopt;
+    WorldContact<S> w;
+    w.method = PairMethod::convex_mesh;
+    w.point_a = w.point_b = r.contacts.front().point;
+    return w;
 }
 
 }  // namespace detail
@@ -146,9 +124,10 @@ template <class S>
     return out;
 }
 
-/// The first contact of two objects while each moves from its pose at `start_*` to the one at `end_*`: convex
-/// pairs by conservative advancement (convex_toi), mesh pairs by mesh_ccd; a convex shape against a mesh has no
-/// continuous test yet and is tested at the end poses (toi 1). Ids ordered as in collide_shapes.
+/// The first contact of two objects while each moves from its pose at `start_*` to the one at `end_*` (constant
+/// linear and angular velocity): convex pairs by conservative advancement (convex_toi), a convex shape and a mesh
+/// by mesh_convex_toi, two meshes by mesh_ccd when neither turns (their vertices then move on lines, which
+/// mesh_ccd follows exactly) and by mesh_toi when one does. Ids ordered as in collide_shapes.
 template <class S>
 [[nodiscard]] std::optional<WorldContact<S>> continuous_collide_shapes(ObjectId id_a, const Shape<S>& a,
                                                                        const Transform<S>& start_a,
@@ -177,17 +156,36 @@ template <class S>
             });
         });
     }
+    WorldContact<S> w;
+    w.a = id_a, w.b = id_b;
     if (!a.is_convex() && !b.is_convex()) {
-        const DeformableCcdResult r = mesh_ccd(a.mesh_model(), sa, ea, b.mesh_model(), sb, eb);
-        if (!r.colliding) return std::nullopt;
-        WorldContact<S> w;
-        w.a = id_a, w.b = id_b;
         w.method = PairMethod::mesh_mesh;
-        w.point_a = w.point_b = r.contacts.front().ccd.point;
+        if (sa.R == ea.R && sb.R == eb.R) {  // translations: every vertex on a line, mesh_ccd is exact
+            const DeformableCcdResult r = mesh_ccd(a.mesh_model(), sa, ea, b.mesh_model(), sb, eb);
+            if (!r.colliding) return std::nullopt;
+            w.point_a = w.point_b = r.contacts.front().ccd.point;
+            w.toi = r.toi;
+            return w;
+        }
+        const ToiResult r = mesh_toi(a.mesh_model(), sa, ea, b.mesh_model(), sb, eb);  // vertices on arcs
+        if (!r.colliding) return std::nullopt;
+        w.point_a = w.point_b = (r.point_a + r.point_b) / 2;
         w.toi = r.toi;
         return w;
     }
-    return collide_shapes(id_a, a, end_a, id_b, b, end_b, cache);
+    // A convex shape and a mesh: the advancement on their distance (the mesh as the first object).
+    const bool mesh_first = !a.is_convex();
+    const Shape<S>& mesh = mesh_first ? a : b;
+    const Shape<S>& convex = mesh_first ? b : a;
+    const ToiResult r = convex.visit_convex([&](const auto& c) {
+        return mesh_first ? mesh_convex_toi(mesh.mesh_model(), sa, ea, c, sb, eb)
+                          : mesh_convex_toi(mesh.mesh_model(), sb, eb, c, sa, ea);
+    });
+    if (!r.colliding) return std::nullopt;
+    w.method = PairMethod::convex_mesh;
+    w.point_a = w.point_b = (r.point_a + r.point_b) / 2;
+    w.toi = r.toi;
+    return w;
 }
 
 }  // namespace cdkit

@@ -103,8 +103,9 @@ public:
     /// Continuous collision for this object (double only): step() then tests its pairs over the whole motion
     /// from its pose at the previous step() (or at add) to its current one, and reports the first contact with
     /// its time `toi` < 1 — so a small fast object cannot pass through a thin one between two steps. Its broad-
-    /// phase box covers the motion. Convex pairs use conservative advancement (convex_toi), mesh pairs mesh_ccd;
-    /// a convex shape against a mesh is still tested at the end poses only. Throws for an unknown id.
+    /// phase box covers the motion. Convex pairs use conservative advancement (convex_toi), a convex shape and a
+    /// mesh mesh_convex_toi, two meshes mesh_ccd when neither turns and mesh_toi (which follows the arcs) when one
+    /// does. Throws for an unknown id.
     void set_ccd(ObjectId id, bool on) {
         static_assert(std::is_same_v<S, double>, "continuous collision runs in double");
         check_id(id, "set_ccd");
@@ -207,8 +208,13 @@ private:
         box.lo = box.lo.cwiseMin(from.lo);
         box.hi = box.hi.cwiseMax(from.hi);
         if constexpr (std::is_same_v<S, double>) {
-            if (o.shape->is_convex() && !(o.step_start.R == o.pose.R)) {
-                const double r = o.shape->visit_convex([](const auto& c) { return detail::radius_about_origin(c); });
+            if (!(o.step_start.R == o.pose.R)) {
+                // A turning object sweeps arcs: a ball about its origin's path covers them. A mesh's radius from
+                // its local box (its corners' farthest), a convex shape's from its support map.
+                const Aabb<S>& lb = o.shape->local_bounds();
+                const double r = o.shape->is_convex()
+                                     ? o.shape->visit_convex([](const auto& c) { return detail::radius_about_origin(c); })
+                                     : (lb.center.cwiseAbs() + lb.half).norm() * (1 + 1e-12);
                 const Vec3<S> c0 = o.shape->placed(o.step_start).t, c1 = o.shape->placed(o.pose).t;
                 box.lo = box.lo.cwiseMin(Vec3<S>(c0.cwiseMin(c1).array() - r));
                 box.hi = box.hi.cwiseMax(Vec3<S>(c0.cwiseMax(c1).array() + r));
