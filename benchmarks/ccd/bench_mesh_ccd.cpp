@@ -16,6 +16,7 @@
 // Per class and method: median / max ms per query (each query warm: one untimed run, then the fastest of 3),
 // contacts reported, FCL CA RSS's median over the row's (the speed-up), for translation the largest
 // |toi_cdkit − toi_fcl| over pairs both call colliding, and the certain contacts the method missed.
+#include "../bench_util.hpp"
 #include <cdkit/bv/obb.hpp>
 #include <cdkit/bv/rss.hpp>
 #include <cdkit/ccd/mesh_ccd.hpp>
@@ -47,11 +48,8 @@ template <class F> double best_ms(F&& f) {
     return best;
 }
 
-cdkit::Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    return q.normalized().toRotationMatrix();
-}
+using cdbench::random_rotation;
+using cdbench::median;
 
 fcl::Transform3d to_fcl(const T& t) {
     fcl::Transform3d x = fcl::Transform3d::Identity();
@@ -60,11 +58,6 @@ fcl::Transform3d to_fcl(const T& t) {
     return x;
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
 
 }  // namespace
 

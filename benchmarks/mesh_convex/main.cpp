@@ -21,6 +21,7 @@
 // beyond the band goes to a third, exact opinion (the smallest triangle_distance between the mesh's and the
 // shape's triangles, a sphere being a point and a capsule a segment plus the radius): where it confirms cdkit the
 // row's fcl_wrong counts it, otherwise disagreements does. Exit status 1 on any disagreement.
+#include "../bench_util.hpp"
 #include "../convex/batch_timer.hpp"
 #include "../provenance.hpp"
 
@@ -44,11 +45,8 @@ namespace {
 using V = cdkit::Vec3<double>;
 using T = cdkit::Transform<double>;
 
-cdkit::Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    return q.normalized().toRotationMatrix();
-}
+using cdbench::random_rotation;
+using cdbench::median;
 
 fcl::Transform3d to_fcl(const T& t) {
     fcl::Transform3d x = fcl::Transform3d::Identity();
@@ -57,11 +55,6 @@ fcl::Transform3d to_fcl(const T& t) {
     return x;
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
 
 /// Fastest of 3 warm batches, µs per call.
 template <class F> double sample_us(F&& f) {

@@ -236,6 +236,12 @@ class ConvexPolyhedron:
     def bounding_radius(self) -> float: ...
     def support(self, direction: ArrayLike) -> np.ndarray: ...
 
+class ConvexRayRequest:
+    """Settings of convex_ray_cast(): hit tolerance (absolute, > 0) and the step cap."""
+    def __init__(self, tolerance: float = 1e-09, max_iterations: int = 256) -> None: ...
+    tolerance: float
+    max_iterations: int
+
 class ConvexTriangle:
     """A triangle as a (flat) convex shape."""
     def __init__(self, a: Any, b: Any, c: Any) -> None: ...
@@ -471,6 +477,86 @@ class IstQueryStats:
     def node_tests(self) -> int: ...
     @property
     def leaf_pairs(self) -> int: ...
+
+class MeshConvexContact:
+    """One mesh triangle touching the shape, with a point of it in the shape (world)."""
+    @property
+    def triangle(self) -> int: ...
+    @property
+    def point(self) -> np.ndarray: ...
+
+class MeshConvexDistanceResult:
+    """Result of mesh_convex_distance(): world-frame closest points."""
+    @property
+    def status(self) -> QueryStatus: ...
+    @property
+    def colliding(self) -> bool: ...
+    @property
+    def distance(self) -> float: ...
+    @property
+    def point_mesh(self) -> np.ndarray: ...
+    @property
+    def point_shape(self) -> np.ndarray: ...
+    @property
+    def triangle(self) -> int: ...
+    @property
+    def stats(self) -> DistanceStats: ...
+
+class MeshConvexPenetration:
+    """One touching triangle's penetration (world): depth, normal from the triangle towards the shape, deepest points."""
+    @property
+    def triangle(self) -> int: ...
+    @property
+    def depth(self) -> float: ...
+    @property
+    def normal(self) -> np.ndarray: ...
+    @property
+    def point_mesh(self) -> np.ndarray: ...
+    @property
+    def point_shape(self) -> np.ndarray: ...
+
+class MeshConvexPenetrationResult:
+    """Result of mesh_convex_penetration(): the deepest touching triangle and (ContactMode.all) every one."""
+    @property
+    def status(self) -> QueryStatus: ...
+    @property
+    def colliding(self) -> bool: ...
+    @property
+    def truncated(self) -> bool: ...
+    @property
+    def deepest(self) -> MeshConvexPenetration: ...
+    @property
+    def contacts(self) -> list[MeshConvexPenetration]: ...
+    @property
+    def stats(self) -> TraversalStats: ...
+    @property
+    def triangles(self) -> np.ndarray: ...
+    def __bool__(self) -> bool: ...
+
+class MeshConvexRequest:
+    """What mesh_convex_collide() and mesh_convex_penetration() report."""
+    def __init__(self, mode: ContactMode = ..., max_contacts: int = 18446744073709551615, witness_points: bool = True) -> None: ...
+    mode: ContactMode
+    max_contacts: int
+    witness_points: bool
+
+class MeshConvexResult:
+    """Result of mesh_convex_collide(): status, colliding, the touching triangles."""
+    @property
+    def status(self) -> QueryStatus: ...
+    @property
+    def colliding(self) -> bool: ...
+    @property
+    def truncated(self) -> bool: ...
+    @property
+    def contacts(self) -> list[MeshConvexContact]: ...
+    @property
+    def stats(self) -> TraversalStats: ...
+    @property
+    def triangles(self) -> np.ndarray: ...
+    @property
+    def points(self) -> np.ndarray: ...
+    def __bool__(self) -> bool: ...
 
 class MeshModel:
     """A triangle mesh with its bounding volume hierarchy (cdkit::MeshModel<BV>). Built once; queries never copy it. Two models meet in a query only when they use the same `bv`."""
@@ -870,6 +956,9 @@ def collide_brute_force(a: MeshModel, pose_a: Pose | None, b: MeshModel, pose_b:
 def collide_many(a: MeshModel, poses_a: ArrayLike | Pose | None, b: MeshModel, poses_b: ArrayLike | Pose | None, threads: int = 0) -> np.ndarray:
     """collide(a, poses_a[i], b, poses_b[i]) for every i (first contact), as an (N,) bool array. poses_a and poses_b are (N,4,4) arrays, or one of them a single pose used for every entry. Runs in C++ with TBB (`threads` workers, 0: all cores), the GIL released. ValueError for a pose that is not a rigid motion."""
 
+def convex_ray_cast(shape: Shape, pose: Pose | None, origin: ArrayLike, direction: ArrayLike, t_min: float = 0.0, t_max: float = ..., request: ConvexRayRequest | None = None) -> RayCastResult:
+    """Casts the ray origin + t*direction (world), t in [t_min, t_max], against a convex shape at `pose`: one hit (t, point, outward normal; triangle = u = v = 0)."""
+
 def convex_toi(a: Shape, a_start: Pose | None, a_end: Pose | None, b: Shape, b_start: Pose | None, b_end: Pose | None, request: ToiRequest | None = None) -> ToiResult:
     """Time of impact of two convex shapes moving from their start to their end poses (conservative advancement)."""
 
@@ -899,6 +988,21 @@ def load_mesh(path: str, join_vertices: bool = True, triangulate: bool = True) -
 
 def mesh_ccd(a: MeshModel, a_start: Pose | None, a_end: Pose | None, b: MeshModel, b_start: Pose | None, b_end: Pose | None, request: DeformableCcdRequest | None = None) -> DeformableCcdResult:
     """Continuous collision of two rigid meshes moving from their start to their end poses in one step."""
+
+def mesh_convex_collide(mesh: MeshModel, pose_mesh: Pose | None, shape: Shape, pose_shape: Pose | None, request: MeshConvexRequest | None = None) -> MeshConvexResult:
+    """Mesh-convex collision: the first touching triangle, or all with MeshConvexRequest(ContactMode.all)."""
+
+def mesh_convex_distance(mesh: MeshModel, pose_mesh: Pose | None, shape: Shape, pose_shape: Pose | None, request: DistanceRequest | None = None) -> MeshConvexDistanceResult:
+    """Distance from the mesh's triangles to a convex shape (0 when touching), closest points and triangle (any bv)."""
+
+def mesh_convex_penetration(mesh: MeshModel, pose_mesh: Pose | None, shape: Shape, pose_shape: Pose | None, request: MeshConvexRequest | None = None) -> MeshConvexPenetrationResult:
+    """Per-triangle penetration (EPA) of the touching triangles with a convex shape: the deepest, or all."""
+
+def mesh_convex_toi(mesh: MeshModel, mesh_start: Pose | None, mesh_end: Pose | None, shape: Shape, shape_start: Pose | None, shape_end: Pose | None, request: ToiRequest | None = None) -> ToiResult:
+    """Time of impact of a mesh and a convex shape moving from their start to their end poses (any bv)."""
+
+def mesh_toi(a: MeshModel, a_start: Pose | None, a_end: Pose | None, b: MeshModel, b_start: Pose | None, b_end: Pose | None, request: ToiRequest | None = None) -> ToiResult:
+    """Time of impact of two meshes under rigid motions (rotation included), by conservative advancement (bv 'aabb', 'obb' or 'rss')."""
 
 def penalty_wrench(volume: PenetrationVolumeResult, a: InnerSphereTree, pose_a: Pose | None, b: InnerSphereTree, pose_b: Pose | None, stiffness: float, reference_a: ArrayLike = None, reference_b: ArrayLike = None) -> PenaltyWrench:
     """Penalty force and torques from a complete penetration_volume() result with pairs, at the same poses (torques about the reference points; None: the poses' origins)."""

@@ -119,5 +119,7 @@ void init_convex_cached(py::module_& m);
 void init_world(py::module_& m);
 void init_ist(py::module_& m);
 void init_ccd(py::module_& m);
+void init_mesh_convex(py::module_& m);
+void init_mesh_convex_ccd(py::module_& m);
 
 }  // namespace cdkit::python

@@ -13,4 +13,6 @@ PYBIND11_MODULE(_cdkit, m) {
     init_world(m);
     init_ist(m);
     init_ccd(m);
+    init_mesh_convex(m);
+    init_mesh_convex_ccd(m);
 }

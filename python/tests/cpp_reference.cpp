@@ -4,6 +4,8 @@
 // and requires the same answers.
 #include <cdkit/batch.hpp>
 #include <cdkit/cdkit.hpp>
+#include <cdkit/ccd/mesh_convex_toi.hpp>
+#include <cdkit/ccd/mesh_toi.hpp>
 
 #include <cstdio>
 #include <random>
@@ -173,6 +175,47 @@ int main() {
                     vec(rays[k].origin).c_str(), vec(rays[k].direction).c_str(), hits[k].hit ? "true" : "false",
                     num(hits[k].hit ? hits[k].hits[0].t : -1).c_str(), hits[k].hit ? int(hits[k].hits[0].triangle) : -1);
     std::printf("],\n");
+
+    // Mesh–convex: the bunny (obb tree) against every shape, near it (a mix of hits and misses): collide (all
+    // contacts), distance, penetration (deepest), the shape moving towards the bunny's origin (mesh_convex_toi), and
+    // a ray from beside the shape towards its centre (convex_ray_cast).
+    MeshConvexRequest mc_all;
+    mc_all.mode = ContactMode::all;
+    std::printf("\"mesh_convex\": [\n");
+    first_row = true;
+    for (int i = 0; i < 8; ++i)
+        for (int rep = 0; rep < 4; ++rep) {
+            const P a = random_pose(rng, 0.5), b = random_pose(rng, rep < 2 ? 6.0 : 2.5);
+            with_shape(i, [&](const auto& x) {
+                const auto c = collide(obb, a, x, b, mc_all);
+                const auto d = distance(obb, a, x, b);
+                const auto e = penetration(obb, a, x, b);
+                const auto toi = mesh_convex_toi(obb, a, a, x, b, P(b.R, a.t));
+                Ray ray;
+                ray.origin = b.t + Vec3<double>(3, 2, 1);
+                ray.direction = b.t - ray.origin;
+                const auto rc = ray_cast(x, b, ray);
+                std::printf("%s{\"shape\": %d, \"pose_mesh\": %s, \"pose_shape\": %s, \"colliding\": %s, \"triangles\": [",
+                            first_row ? "" : ",", i, pose(a).c_str(), pose(b).c_str(), c.colliding ? "true" : "false");
+                for (std::size_t k = 0; k < c.contacts.size(); ++k) std::printf("%s%u", k ? "," : "", c.contacts[k].triangle);
+                std::printf("], \"distance\": %s, \"triangle\": %u, \"point_mesh\": %s, \"point_shape\": %s, "
+                            "\"depth\": %s, \"deepest\": %d, \"toi\": %s, \"toi_colliding\": %s, \"ray_origin\": %s, "
+                            "\"ray_direction\": %s, \"ray_hit\": %s, \"ray_t\": %s}\n",
+                            num(d.distance).c_str(), d.triangle, vec(d.point_mesh).c_str(), vec(d.point_shape).c_str(),
+                            num(e.deepest.depth).c_str(), e.colliding ? int(e.deepest.triangle) : -1,
+                            num(toi.toi).c_str(), toi.colliding ? "true" : "false", vec(ray.origin).c_str(),
+                            vec(ray.direction).c_str(), rc.hit ? "true" : "false", num(rc.hit ? rc.hits[0].t : -1).c_str());
+                first_row = false;
+            });
+        }
+    std::printf("],\n");
+    // mesh_toi: a turning bunny (rss tree) passing by the fixed one.
+    const P m0(Eigen::AngleAxisd(0.0, Vec3<double>::UnitZ()).toRotationMatrix(), Vec3<double>(-14, 0.3, 0.2));
+    const P m1(Eigen::AngleAxisd(1.3, Vec3<double>(0.3, 0.8, 0.5).normalized()).toRotationMatrix(), Vec3<double>(14, 0.1, -0.3));
+    const auto mt = mesh_toi(rss, P{}, P{}, rss, m0, m1);
+    std::printf("\"mesh_toi\": {\"b_start\": %s, \"b_end\": %s, \"colliding\": %s, \"toi\": %s, \"point_a\": %s},\n",
+                pose(m0).c_str(), pose(m1).c_str(), mt.colliding ? "true" : "false", num(mt.toi).c_str(),
+                vec(mt.point_a).c_str());
 
     // Mesh CCD: the bunny sweeping through another.
     const P s0 = P::translation(Vec3<double>(-15, 0.1, 0)), s1 = P::translation(Vec3<double>(15, 0.0, 0.1));

@@ -64,11 +64,11 @@ template <class BV, class S>
 }
 
 /// Bounds of a set of points, for the split heuristics (not a BV: no padding).
-template <class S> struct Box {
+template <class S> struct BinBox {
     Vec3<S> lo = Vec3<S>::Constant(std::numeric_limits<S>::infinity());
     Vec3<S> hi = Vec3<S>::Constant(-std::numeric_limits<S>::infinity());
     void add(const Vec3<S>& p) noexcept { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); }
-    void add(const Box& b) noexcept { lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi); }
+    void add(const BinBox& b) noexcept { lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi); }
     [[nodiscard]] double area() const noexcept {
         if (!(hi.x() >= lo.x())) return 0;
         const Vec3<double> e = (hi - lo).template cast<double>();
@@ -85,7 +85,7 @@ template <class S> struct Box {
 /// triangle and node instead of a centroid plus three vertices through the index (that indirection was 44%
 /// of an Obb build on 871k triangles).
 template <class S> struct TriangleBounds {
-    Box<S> box;
+    BinBox<S> box;
     Vec3<S> centroid;
 };
 
@@ -109,7 +109,7 @@ template <class S>
     constexpr int kMaxBins = 16;
     // Most nodes are small: n bins resolve n centroids as well as 16 do, and the sweep below costs per bin.
     const int B = int(std::min<std::ptrdiff_t>(kMaxBins, last - first));
-    Box<S> cb;
+    BinBox<S> cb;
     for (Index* p = first; p != last; ++p) cb.add(tri[*p].centroid);
     bool binned[3];
     S scale[3];
@@ -123,11 +123,11 @@ template <class S>
         const int b = int((c[axis] - cb.lo[axis]) * scale[axis]);
         return std::clamp(b, 0, B - 1);
     };
-    std::array<std::array<Box<S>, kMaxBins>, 3> box;
+    std::array<std::array<BinBox<S>, kMaxBins>, 3> box;
     std::array<std::array<std::size_t, kMaxBins>, 3> count{};
     for (Index* p = first; p != last; ++p) {
         const Vec3<S>& c = tri[*p].centroid;
-        const Box<S>& tb = tri[*p].box;
+        const BinBox<S>& tb = tri[*p].box;
         for (int axis = 0; axis < 3; ++axis) {
             if (!binned[axis]) continue;
             const int b = bin_of(c, axis);
@@ -141,13 +141,13 @@ template <class S>
         if (!binned[axis]) continue;
         // Sweep: right-to-left suffix areas, then left-to-right.
         std::array<double, kMaxBins> right_cost{};
-        Box<S> acc;
+        BinBox<S> acc;
         std::size_t n = 0;
         for (int b = B - 1; b > 0; --b) {
             acc.add(box[axis][b]), n += count[axis][b];
             right_cost[b] = acc.area() * double(n);
         }
-        acc = Box<S>();
+        acc = BinBox<S>();
         n = 0;
         for (int b = 0; b < B - 1; ++b) {
             acc.add(box[axis][b]), n += count[axis][b];
@@ -188,12 +188,12 @@ template <class S>
         return ka < kb || (ka == kb && a < b);
     });
     std::vector<double> suffix(n + 1, 0.0);
-    Box<S> acc;
+    BinBox<S> acc;
     for (std::size_t i = n; i-- > 1;) {
         for (Index v : mesh.triangles[first[i]]) acc.add(Vec3<S>(ft * mesh.vertices[v]));
         suffix[i] = acc.volume();
     }
-    acc = Box<S>();
+    acc = BinBox<S>();
     double best = std::numeric_limits<double>::infinity();
     std::size_t cut = n / 2;
     for (std::size_t i = 0; i + 1 < n; ++i) {

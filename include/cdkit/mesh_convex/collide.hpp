@@ -60,6 +60,31 @@ template <SupportMapped C, class S>
     return mesh_convex_record(t, witness, pose_mesh, req, out);
 }
 
+/// The descent every mesh–convex query but distance makes: depth first through the nodes whose BV `tester` finds
+/// overlapping the shape's bound, `visit(triangle)` on each triangle of the leaves reached until it returns false.
+template <class BV, class M, class Tester, class Visit>
+void for_each_candidate_triangle(const MeshModel<BV, M>& mesh, const Tester& tester, TraversalStats& stats,
+                                 Visit&& visit) {
+    const auto& nodes = mesh.bvh().nodes();
+    const auto& order = mesh.bvh().triangle_order();
+    if (nodes.empty()) return;
+    SmallStack<std::uint32_t, 64> stack;
+    stack.push(0);
+    while (!stack.empty()) {
+        const BvhNode<BV>& node = nodes[stack.pop()];
+        ++stats.bv_tests;
+        if (!tester.overlaps(node.bv)) continue;
+        if (!node.is_leaf()) {
+            stack.push(node.first + 1);
+            stack.push(node.first);
+            continue;
+        }
+        ++stats.leaf_pairs;
+        for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+            if (!visit(order[i])) return;
+    }
+}
+
 }  // namespace detail
 
 /// Collision between the triangles of `mesh` (model frame → world by `pose_mesh`) and the convex `shape` (its
@@ -80,26 +105,10 @@ template <class BV, class M, SupportMapped C>
     detail::ShapeBound<M> bound;
     out.status = detail::mesh_convex_setup(pose_mesh, shape, pose_shape, bound);
     if (out.status != QueryStatus::ok) return out;
-    const auto& nodes = mesh.bvh().nodes();
-    const auto& order = mesh.bvh().triangle_order();
-    if (nodes.empty()) return out;
     const detail::NodeTester<BV, M> tester(bound, shape);
-    detail::SmallStack<std::uint32_t, 64> stack;
-    stack.push(0);
-    while (!stack.empty()) {
-        const BvhNode<BV>& node = nodes[stack.pop()];
-        ++out.stats.bv_tests;
-        if (!tester.overlaps(node.bv)) continue;
-        if (!node.is_leaf()) {
-            stack.push(node.first + 1);
-            stack.push(node.first);
-            continue;
-        }
-        ++out.stats.leaf_pairs;
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-            if (!detail::mesh_convex_test_triangle(mesh.mesh(), order[i], shape, bound, pose_mesh, request, out))
-                return out;
-    }
+    detail::for_each_candidate_triangle(mesh, tester, out.stats, [&](Index t) {
+        return detail::mesh_convex_test_triangle(mesh.mesh(), t, shape, bound, pose_mesh, request, out);
+    });
     return out;
 }
 

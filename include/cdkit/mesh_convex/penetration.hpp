@@ -31,48 +31,29 @@ template <class BV, class M, SupportMapped C>
     detail::ShapeBound<S> bound;
     out.status = detail::mesh_convex_setup(pose_mesh, shape, pose_shape, bound);
     if (out.status != QueryStatus::ok) return out;
-    const auto& nodes = mesh.bvh().nodes();
-    const auto& order = mesh.bvh().triangle_order();
     const auto& m = mesh.mesh();
-    if (nodes.empty()) return out;
     const detail::NodeTester<BV, S> tester(bound, shape);
-    detail::SmallStack<std::uint32_t, 64> stack;
-    stack.push(0);
-    while (!stack.empty()) {
-        const BvhNode<BV>& node = nodes[stack.pop()];
-        ++out.stats.bv_tests;
-        if (!tester.overlaps(node.bv)) continue;
-        if (!node.is_leaf()) {
-            stack.push(node.first + 1);
-            stack.push(node.first);
-            continue;
-        }
-        ++out.stats.leaf_pairs;
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-            const Index t = order[i];
-            const auto& tri = m.triangles[t];
-            const Vec3<S>&v0 = m.vertices[tri[0]], &v1 = m.vertices[tri[1]], &v2 = m.vertices[tri[2]];
-            ++out.stats.primitive_tests;
-            if (!detail::triangle_touches(v0, v1, v2, shape, bound, static_cast<Vec3<S>*>(nullptr))) continue;
-            const ConvexTriangle<S> ct(v0, v1, v2);
-            const PenetrationResult<S> p = cdkit::penetration(ct, pose_mesh, shape, pose_shape);
-            MeshConvexPenetration<S> c;
-            c.triangle = t;
-            c.depth = p.status == GjkStatus::separated ? S(0) : p.depth;  // touching within the tests' rounding
-            c.normal = p.normal;
-            c.point_mesh = p.point_a;
-            c.point_shape = p.point_b;
-            if (!out.colliding || c.depth > out.deepest.depth) out.deepest = c;
-            out.colliding = true;
-            if (request.mode == ContactMode::all) {
-                out.contacts.push_back(c);
-                if (out.contacts.size() >= request.max_contacts) {
-                    out.truncated = true;
-                    return out;
-                }
-            }
-        }
-    }
+    detail::for_each_candidate_triangle(mesh, tester, out.stats, [&](Index t) {
+        const auto& tri = m.triangles[t];
+        const Vec3<S>&v0 = m.vertices[tri[0]], &v1 = m.vertices[tri[1]], &v2 = m.vertices[tri[2]];
+        ++out.stats.primitive_tests;
+        if (!detail::triangle_touches(v0, v1, v2, shape, bound, static_cast<Vec3<S>*>(nullptr))) return true;
+        const ConvexTriangle<S> ct(v0, v1, v2);
+        const PenetrationResult<S> p = cdkit::penetration(ct, pose_mesh, shape, pose_shape);
+        MeshConvexPenetration<S> c;
+        c.triangle = t;
+        c.depth = p.status == GjkStatus::separated ? S(0) : p.depth;  // touching within the tests' rounding
+        c.normal = p.normal;
+        c.point_mesh = p.point_a;
+        c.point_shape = p.point_b;
+        if (!out.colliding || c.depth > out.deepest.depth) out.deepest = c;
+        out.colliding = true;
+        if (request.mode != ContactMode::all) return true;
+        out.contacts.push_back(c);
+        if (out.contacts.size() < request.max_contacts) return true;
+        out.truncated = true;
+        return false;
+    });
     if (out.colliding && request.mode == ContactMode::first) out.contacts.push_back(out.deepest);
     return out;
 }
