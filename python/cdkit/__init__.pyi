@@ -210,6 +210,23 @@ class Contact:
     @property
     def coplanar(self) -> bool: ...
 
+class ContactManifold:
+    """Result of contact_manifold(): up to four points sharing one normal (A to B)."""
+    @property
+    def status(self) -> QueryStatus: ...
+    @property
+    def colliding(self) -> bool: ...
+    @property
+    def distance(self) -> float: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def normal(self) -> np.ndarray: ...
+    @property
+    def points(self) -> list[ManifoldPoint]: ...
+    def max_depth(self) -> float:
+        """The deepest point's depth."""
+
 class ContactMode:
     """How many contacts a query reports."""
     first: ClassVar[ContactMode]
@@ -477,6 +494,32 @@ class IstQueryStats:
     def node_tests(self) -> int: ...
     @property
     def leaf_pairs(self) -> int: ...
+
+class ManifoldCache:
+    """Per-pair state between frames: GJK's warm start and last frame's points and ids."""
+    def __init__(self) -> None: ...
+    @property
+    def count(self) -> int: ...
+    def reset(self) -> None:
+        """Forget the previous frame."""
+
+class ManifoldPoint:
+    """One contact point: on A's and on B's surface, its depth along the normal (negative: a speculative point), its feature id."""
+    @property
+    def point_a(self) -> np.ndarray: ...
+    @property
+    def point_b(self) -> np.ndarray: ...
+    @property
+    def depth(self) -> float: ...
+    @property
+    def id(self) -> int: ...
+
+class ManifoldRequest:
+    """What contact_manifold() keeps: margin, feature angle, single point."""
+    def __init__(self, margin: float = 0.0, feature_angle: float = 0.1, single_point: bool = False) -> None: ...
+    margin: float
+    feature_angle: float
+    single_point: bool
 
 class MeshConvexContact:
     """One mesh triangle touching the shape, with a point of it in the shape (world)."""
@@ -759,6 +802,10 @@ class ShapeKind:
     capsule: ClassVar[ShapeKind]
     convex_hull: ClassVar[ShapeKind]
     mesh: ClassVar[ShapeKind]
+    cylinder: ClassVar[ShapeKind]
+    cone: ClassVar[ShapeKind]
+    ellipsoid: ClassVar[ShapeKind]
+    triangle: ClassVar[ShapeKind]
     name: str
     value: int
     def __init__(self, value: int) -> None: ...
@@ -859,7 +906,7 @@ class World:
     """Objects with a shape and a pose; step() runs broad phase, interest matrix and narrow phase. Not reentrant: one World per thread (the GIL is released during step())."""
     def __init__(self, options: WorldOptions | None = None) -> None: ...
     def add(self, shape: Sphere | Box | Capsule | ConvexPolyhedron | MeshModel, pose: Pose | None = None) -> int:
-        """Adds an object (Sphere, Box, Capsule, ConvexPolyhedron or MeshModel) at `pose`; returns its id. Raises cdkit.Error for a pose that is not a rigid motion."""
+        """Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron or MeshModel) at `pose`; returns its id. Raises cdkit.Error for a pose that is not a rigid motion."""
     def remove(self, id: int) -> None: ...
     def set_pose(self, id: int, pose: Pose | None) -> None: ...
     def pose(self, id: int) -> np.ndarray: ...
@@ -886,7 +933,13 @@ class WorldContact:
     @property
     def method(self) -> PairMethod: ...
     @property
+    def colliding(self) -> bool: ...
+    @property
+    def distance(self) -> float: ...
+    @property
     def has_depth(self) -> bool: ...
+    @property
+    def points(self) -> list[ManifoldPoint]: ...
     @property
     def depth(self) -> float: ...
     @property
@@ -902,7 +955,9 @@ class WorldContact:
 
 class WorldOptions:
     """How a World runs: its broad phase and whether the narrow phase runs with TBB."""
-    def __init__(self, broad_phase: BroadPhaseKind = ..., parallel: bool = False, parallel_min_pairs: int = 32) -> None: ...
+    def __init__(self, broad_phase: BroadPhaseKind = ..., parallel: bool = False, parallel_min_pairs: int = 32, manifolds: bool = True, contact_margin: float = 0.0) -> None: ...
+    manifolds: bool
+    contact_margin: float
     broad_phase: BroadPhaseKind
     parallel: bool
     parallel_min_pairs: int
@@ -955,6 +1010,9 @@ def collide_brute_force(a: MeshModel, pose_a: Pose | None, b: MeshModel, pose_b:
 
 def collide_many(a: MeshModel, poses_a: ArrayLike | Pose | None, b: MeshModel, poses_b: ArrayLike | Pose | None, threads: int = 0) -> np.ndarray:
     """collide(a, poses_a[i], b, poses_b[i]) for every i (first contact), as an (N,) bool array. poses_a and poses_b are (N,4,4) arrays, or one of them a single pose used for every entry. Runs in C++ with TBB (`threads` workers, 0: all cores), the GIL released. ValueError for a pose that is not a rigid motion."""
+
+def contact_manifold(a: Shape, pose_a: Pose | None, b: Shape, pose_b: Pose | None, request: ManifoldRequest | None = None, cache: ManifoldCache | None = None) -> ContactManifold:
+    """Contact manifold of two convex shapes: up to four points from the touching faces or edges, each with its depth and a feature id (kept across frames by a ManifoldCache)."""
 
 def convex_ray_cast(shape: Shape, pose: Pose | None, origin: ArrayLike, direction: ArrayLike, t_min: float = 0.0, t_max: float = ..., request: ConvexRayRequest | None = None) -> RayCastResult:
     """Casts the ray origin + t*direction (world), t in [t_min, t_max], against a convex shape at `pose`: one hit (t, point, outward normal; triangle = u = v = 0)."""

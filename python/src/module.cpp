@@ -10,6 +10,7 @@ PYBIND11_MODULE(_cdkit, m) {
     init_batch(m);
     init_convex(m);
     init_convex_cached(m);
+    init_manifold(m);  // before the World: WorldContact.points returns ManifoldPoints
     init_world(m);
     init_ist(m);
     init_ccd(m);

@@ -21,6 +21,19 @@ Shape<double> world_shape(py::handle obj) {
         const auto& c = obj.cast<const Capsule<double>&>();
         return Shape<double>::capsule(c.radius, c.half_length);
     }
+    if (py::isinstance<Cylinder<double>>(obj)) {
+        const auto& c = obj.cast<const Cylinder<double>&>();
+        return Shape<double>::cylinder(c.radius, c.half_height);
+    }
+    if (py::isinstance<Cone<double>>(obj)) {
+        const auto& c = obj.cast<const Cone<double>&>();
+        return Shape<double>::cone(c.radius, c.half_height);
+    }
+    if (py::isinstance<Ellipsoid<double>>(obj)) return Shape<double>::ellipsoid(obj.cast<const Ellipsoid<double>&>().radii);
+    if (py::isinstance<ConvexTriangle<double>>(obj)) {
+        const auto& t = obj.cast<const ConvexTriangle<double>&>();
+        return Shape<double>::triangle(t.a, t.b, t.c);
+    }
     if (py::isinstance<Polyhedron>(obj)) return Shape<double>::convex_hull(obj.cast<std::shared_ptr<Polyhedron>>());
     if (py::isinstance<PyMeshModel>(obj)) {
         const auto& m = obj.cast<const PyMeshModel&>();
@@ -29,7 +42,8 @@ Shape<double> world_shape(py::handle obj) {
         py::gil_scoped_release nogil;
         return Shape<double>::mesh(std::make_shared<const WorldMeshModel<double>>(m.mesh_ptr()));
     }
-    throw py::type_error("shape: a World object is a Sphere, Box, Capsule, ConvexPolyhedron or MeshModel, got " +
+    throw py::type_error("shape: a World object is a Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, "
+                         "ConvexPolyhedron or MeshModel, got " +
                          std::string(py::str(py::type::of(obj))));
 }
 
@@ -91,21 +105,30 @@ void init_world(py::module_& m) {
         .value("box", ShapeKind::box)
         .value("capsule", ShapeKind::capsule)
         .value("convex_hull", ShapeKind::convex_hull)
-        .value("mesh", ShapeKind::mesh);
+        .value("mesh", ShapeKind::mesh)
+        .value("cylinder", ShapeKind::cylinder)
+        .value("cone", ShapeKind::cone)
+        .value("ellipsoid", ShapeKind::ellipsoid)
+        .value("triangle", ShapeKind::triangle);
     py::enum_<PairMethod>(m, "PairMethod")
         .value("convex_convex", PairMethod::convex_convex)
         .value("convex_mesh", PairMethod::convex_mesh)
         .value("mesh_mesh", PairMethod::mesh_mesh);
     py::class_<WorldOptions>(m, "WorldOptions", "How a World runs: its broad phase and whether the narrow phase runs with TBB.")
-        .def(py::init([](BroadPhaseKind bp, bool parallel, std::size_t parallel_min_pairs) {
+        .def(py::init([](BroadPhaseKind bp, bool parallel, std::size_t parallel_min_pairs, bool manifolds,
+                         double contact_margin) {
                  WorldOptions o;
                  o.broad_phase = bp;
                  o.parallel = parallel;
                  o.parallel_min_pairs = parallel_min_pairs;
+                 o.manifolds = manifolds;
+                 o.contact_margin = contact_margin;
                  return o;
              }),
              py::arg("broad_phase") = BroadPhaseKind::dynamic_aabb_tree, py::arg("parallel") = false,
-             py::arg("parallel_min_pairs") = 32)
+             py::arg("parallel_min_pairs") = 32, py::arg("manifolds") = true, py::arg("contact_margin") = 0.0)
+        .def_readwrite("manifolds", &WorldOptions::manifolds)
+        .def_readwrite("contact_margin", &WorldOptions::contact_margin)
         .def_readwrite("broad_phase", &WorldOptions::broad_phase)
         .def_readwrite("parallel", &WorldOptions::parallel)
         .def_readwrite("parallel_min_pairs", &WorldOptions::parallel_min_pairs);
@@ -113,7 +136,15 @@ void init_world(py::module_& m) {
         .def_readonly("a", &WorldContact<double>::a)
         .def_readonly("b", &WorldContact<double>::b)
         .def_readonly("method", &WorldContact<double>::method)
+        .def_readonly("colliding", &WorldContact<double>::colliding)
+        .def_readonly("distance", &WorldContact<double>::distance)
         .def_readonly("has_depth", &WorldContact<double>::has_depth)
+        .def_property_readonly(
+            "points",
+            [](const WorldContact<double>& c) {
+                return std::vector<ManifoldPoint<double>>(c.points.begin(), c.points.begin() + c.point_count);
+            },
+            "The manifold's points (up to four; one for mesh and CCD contacts).")
         .def_readonly("depth", &WorldContact<double>::depth)
         .def_property_readonly("normal", [](const WorldContact<double>& c) { return to_array(c.normal); })
         .def_property_readonly("point_a", [](const WorldContact<double>& c) { return to_array(c.point_a); })
@@ -161,7 +192,8 @@ void init_world(py::module_& m) {
                 return w.add(std::move(s), p);
             },
             py::arg("shape"), py::arg("pose") = py::none(),
-            "Adds an object (Sphere, Box, Capsule, ConvexPolyhedron or MeshModel) at `pose`; returns its id. Raises "
+            "Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron or "
+            "MeshModel) at `pose`; returns its id. Raises "
             "cdkit.Error for a pose that is not a rigid motion.")
         .def("remove", &World<double>::remove, py::arg("id"))
         .def(

@@ -20,16 +20,16 @@ ARRAY_ARGS = {"vertices", "faces", "points", "origins", "directions", "lo", "hi"
               "c_t0", "p_t1", "a_t1", "b_t1", "c_t1", "a0_t0", "a1_t0", "b0_t0", "b1_t0", "a0_t1", "a1_t1", "b0_t1",
               "b1_t1"}
 CACHES = {"gjk_intersect": "GjkCache", "gjk_distance": "GjkCache", "separating_plane_intersect": "SeparatingPlaneCache",
-          "closest_features": "ClosestFeatureCache"}
+          "closest_features": "ClosestFeatureCache", "contact_manifold": "ManifoldCache"}
 SHAPE_FUNCS = {"gjk_intersect", "gjk_distance", "penetration", "separating_plane_intersect", "convex_toi",
                "mesh_convex_collide", "mesh_convex_distance", "mesh_convex_penetration", "mesh_convex_toi",
-               "convex_ray_cast"}
+               "convex_ray_cast", "contact_manifold"}
 REQUESTS = {"collide": "CollisionRequest", "collide_brute_force": "CollisionRequest", "distance": "DistanceRequest",
             "convex_toi": "ToiRequest", "vertex_face_ccd": "CcdRequest", "edge_edge_ccd": "CcdRequest",
             "mesh_ccd": "DeformableCcdRequest", "DeformableCcdRequest": "CcdRequest",
             "mesh_convex_collide": "MeshConvexRequest", "mesh_convex_distance": "DistanceRequest",
             "mesh_convex_penetration": "MeshConvexRequest", "mesh_convex_toi": "ToiRequest", "mesh_toi": "ToiRequest",
-            "convex_ray_cast": "ConvexRayRequest"}
+            "convex_ray_cast": "ConvexRayRequest", "contact_manifold": "ManifoldRequest"}
 SETTINGS = {"gjk_intersect": "GjkSettings", "gjk_distance": "GjkSettings", "penetration": "EpaSettings",
             "separating_plane_intersect": "SeparatingPlaneSettings",
             "closest_features": "ClosestFeatureSettings"}

@@ -24,6 +24,12 @@
 // the certified interval by more than 1e-9 relative, EPA's statuses (max_iterations and degenerate carry a finite
 // best estimate), the width of its bracket [depth_lower, depth] and depths off h(n), the slowest case (a hang
 // would never end: every query has an iteration cap).
+// Exact judge (issue 37, independent oracles): given an ExactOracle (tests/oracles/exact_polytope.hpp, CGAL's exact
+// QP/LP on the exactly posed vertices; linked only into the *_cgal test and the benchmark), every case whose shapes
+// are both polytopes (boxes, triangles, hulls) is judged again exactly: each boolean answer against the exact
+// sign (wrong booleans: a contradiction where the exact gap or L∞ depth exceeds the band; exactly touching pairs
+// are undecided: either answer is right), each separation distance against the exact one (histogram), each
+// EPA bracket against the exact L∞ depth's bounds. Cases with a curved shape are counted as not judged exactly.
 #include <cdkit/narrowphase/closest_features.hpp>
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
@@ -33,6 +39,7 @@
 #include "convex_case_file.hpp"
 #include "convex_reference.hpp"
 #include "near_contact_pose.hpp"
+#include "oracles/exact_polytope.hpp"
 
 #include <array>
 #include <chrono>
@@ -51,6 +58,63 @@ using Clock = std::chrono::steady_clock;
 enum Placement { random_pose, touching, near_contact, shallow, nested, coincident, placements };
 inline constexpr const char* placement_names[placements] = {"random",  "touching", "near",
                                                              "shallow", "nested",   "coincident"};
+
+/// The exact referee's entry points (tests/oracles/exact_polytope.hpp), passed in so that this header needs no
+/// CGAL: null members leave the exact judge out (the sanitizer build, which has no CGAL TU).
+struct ExactOracle {
+    decltype(&exact::exact_polytope_pair) pair = nullptr;
+};
+
+/// Exact boolean band: a boolean answer is wrong when it contradicts the exact answer and the exact gap (distance)
+/// or L∞ depth exceeds band_rel·size; within the band it is counted, not failed; exactly touching pairs are
+/// undecided. 1e-10 of the size is what docs/convex.md promises ("Certified separation": every pair apart by more
+/// than 1e-10 of the size is answered separated); below it the queries' touching tolerance (256ε of the Minkowski
+/// difference's size, which grows with |t_rel| and the larger shape) and the poses' rounding decide.
+inline constexpr double band_rel = 1e-10;
+/// Bins of the exact judge: disagreements by |exact gap| / size (≤ 1e-15, ≤ 1e-12, ≤ 1e-10, ≤ 1e-9, > 1e-9; the
+/// gap is the exact distance, or the exact L∞ depth of an overlap) and distance errors |d − exact| / max(exact, 1e-9·size) (≤ 1e-15, ≤ 1e-12, ≤ 1e-9, ≤ 1e-6, ≤ 1e-3,
+/// > 1e-3).
+inline constexpr std::array<const char*, 5> gap_bin_names = {"<=1e-15", "<=1e-12", "<=1e-10", "<=1e-9", ">1e-9"};
+inline constexpr std::array<const char*, 6> error_bin_names = {"<=1e-15", "<=1e-12", "<=1e-9",
+                                                               "<=1e-6",  "<=1e-3",  ">1e-3"};
+inline std::size_t error_bin(double e) {
+    return e <= 1e-15 ? 0 : e <= 1e-12 ? 1 : e <= 1e-9 ? 2 : e <= 1e-6 ? 3 : e <= 1e-3 ? 4 : 5;
+}
+
+/// What the exact judge counted (cases, answers) over the polytope cases.
+struct ExactCounts {
+    long judged = 0, not_judged = 0;           ///< polytope cases / cases with a curved shape
+    long separated = 0, overlapping = 0;       ///< exact: apart (distance > 0), overlapping with depth
+    long touching = 0;                         ///< exact: touching (undecided: either boolean is right)
+    long in_band = 0;                          ///< exact gap or L∞ depth in (0, band_rel·size]
+    long answers = 0;                          ///< boolean answers judged
+    long wrong = 0;                            ///< answers contradicting the exact sign outside the band (failures)
+    long disagree_band = 0;                    ///< answers on the other side of an in-band exact answer
+    std::array<long, 5> disagree_by_gap{};     ///< every disagreement, by gap_bin_names
+    long distances = 0;                        ///< separation distances judged (exact > 0, answer not intersecting)
+    std::array<long, 6> distance_error{};      ///< by error_bin_names
+    double worst_distance_error = 0;
+    long distances_far = 0;                    ///< of them, exact distance > 1e-6·size (the relative-error domain)
+    std::array<long, 6> distance_error_far{};  ///< |d − exact| / exact there, by error_bin_names
+    double worst_distance_error_far = 0;
+    long epa_checked = 0, epa_contradicted = 0;  ///< EPA brackets against δ ∈ [depth_inf/√3, depth_inf]
+    std::string first_wrong;
+    int wrong_described = 0;
+    void add(const ExactCounts& c) {
+        judged += c.judged, not_judged += c.not_judged, separated += c.separated, overlapping += c.overlapping;
+        touching += c.touching, in_band += c.in_band, answers += c.answers, wrong += c.wrong;
+        disagree_band += c.disagree_band;
+        for (std::size_t k = 0; k < disagree_by_gap.size(); ++k) disagree_by_gap[k] += c.disagree_by_gap[k];
+        distances += c.distances;
+        for (std::size_t k = 0; k < distance_error.size(); ++k) distance_error[k] += c.distance_error[k];
+        worst_distance_error = std::max(worst_distance_error, c.worst_distance_error);
+        distances_far += c.distances_far;
+        for (std::size_t k = 0; k < distance_error_far.size(); ++k) distance_error_far[k] += c.distance_error_far[k];
+        worst_distance_error_far = std::max(worst_distance_error_far, c.worst_distance_error_far);
+        epa_checked += c.epa_checked, epa_contradicted += c.epa_contradicted;
+        if (wrong_described < 12) first_wrong += c.first_wrong, wrong_described += c.wrong_described;
+    }
+};
 
 struct Counts {
     long cases = 0, decisive = 0, colliding = 0, placed_random = 0;
@@ -72,6 +136,7 @@ struct Counts {
     int described = 0;
     std::string first_outliers;  ///< one line for each of the first distances off the certified interval
     int outliers_described = 0;
+    ExactCounts exact;  ///< the exact judge's counts (all zero without an oracle)
     [[nodiscard]] long failures() const {
         long wrong_epa = 0;
         for (long n : epa_wrong_status) wrong_epa += n;
@@ -95,6 +160,7 @@ struct Counts {
         if (described < 12) first_failures += c.first_failures, described += c.described;
         if (outliers_described < 12)
             first_outliers += c.first_outliers, outliers_described += c.outliers_described;
+        exact.add(c.exact);
     }
 };
 
@@ -217,8 +283,94 @@ inline std::string describe(const ConvexPolyhedron<double>& s) {
            std::to_string(s.bounding_radius());
 }
 
+/// The points whose hull is the shape, for the exact judge: boxes, triangles and hulls are polytopes.
+template <class T>
+inline constexpr bool is_polytope_v = std::is_same_v<T, Box<double>> || std::is_same_v<T, ConvexTriangle<double>> ||
+                                      std::is_same_v<T, ConvexPolyhedron<double>>;
+inline std::vector<Vec3<double>> vertex_list(const Box<double>& s) {
+    std::vector<Vec3<double>> v;
+    for (int k = 0; k < 8; ++k)
+        v.emplace_back(k & 1 ? s.half[0] : -s.half[0], k & 2 ? s.half[1] : -s.half[1], k & 4 ? s.half[2] : -s.half[2]);
+    return v;
+}
+inline std::vector<Vec3<double>> vertex_list(const ConvexTriangle<double>& s) { return {s.a, s.b, s.c}; }
+inline std::vector<Vec3<double>> vertex_list(const ConvexPolyhedron<double>& s) { return s.vertices(); }
+
+/// One boolean answer of a case, kept for the exact judge (distance queries: their status and distance too).
+struct Answer {
+    const char* name;
+    bool colliding, distance_query;
+    GjkStatus status;
+    double distance;
+};
+
+/// The exact judge of one polytope case (see the header comment): `answers` are the case's boolean answers, `epa`
+/// its penetration() result if it ran.
+template <class A, class B>
+void judge_exactly(const ExactOracle& oracle, const A& a, const Transform<double>& pa, const B& b,
+                   const Transform<double>& pb, double size, Placement m, const std::vector<Answer>& answers,
+                   const PenetrationResult<double>* epa, ExactCounts& e) {
+    ++e.judged;
+    const auto x = oracle.pair(vertex_list(a), pa, vertex_list(b), pb, true);
+    // side: +1 apart, −1 overlapping with depth, 0 touching; gap: the exact distance or L∞ depth.
+    const int side = !x.intersect ? 1 : x.touching ? 0 : -1;
+    const double gap = side > 0 ? x.distance : side < 0 ? x.depth_inf : 0.0;
+    e.separated += side > 0, e.overlapping += side < 0, e.touching += side == 0;
+    const bool banded = side != 0 && gap <= band_rel * size;
+    e.in_band += banded;
+    for (const Answer& ans : answers) {
+        ++e.answers;
+        if (side > 0 && ans.distance_query && ans.status != GjkStatus::intersecting) {
+            const double err = std::abs(ans.distance - x.distance) / std::max(x.distance, 1e-9 * size);
+            ++e.distances;
+            ++e.distance_error[error_bin(err)];
+            e.worst_distance_error = std::max(e.worst_distance_error, err);
+            if (x.distance > 1e-6 * size) {
+                ++e.distances_far;
+                ++e.distance_error_far[error_bin(err)];
+                e.worst_distance_error_far = std::max(e.worst_distance_error_far, err);
+            }
+        }
+        if (side == 0 || ans.colliding == (side < 0)) continue;
+        const double rel = gap / size;
+        ++e.disagree_by_gap[rel <= 1e-15 ? 0 : rel <= 1e-12 ? 1 : rel <= 1e-10 ? 2 : rel <= 1e-9 ? 3 : 4];
+        if (banded) {
+            ++e.disagree_band;
+            continue;
+        }
+        ++e.wrong;
+        if (e.wrong_described < 12) {
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "  exact: %s wrong, %s placement, size %.3g, |t_a| %.3g: answered %s; exact %s, gap %.17g; ",
+                          ans.name, placement_names[m], size, pa.t.norm(), ans.colliding ? "colliding" : "apart",
+                          side > 0 ? "apart" : "overlapping", gap);
+            e.first_wrong += line + describe(a) + " / " + describe(b) + "\n";
+            ++e.wrong_described;
+        }
+    }
+    // EPA's bracket [depth_lower, depth] holds the Euclidean depth δ, and depth_inf/√3 ≤ δ ≤ depth_inf exactly.
+    if (side < 0 && epa != nullptr && epa->status != GjkStatus::separated && epa->status != GjkStatus::touching) {
+        ++e.epa_checked;
+        const double slack = 1e-9 * x.depth_inf + 1e-12 * size;
+        const bool contradicted =
+            epa->depth_lower > x.depth_inf + slack || epa->depth < x.depth_inf / std::sqrt(3.0) - slack;
+        e.epa_contradicted += contradicted;
+        if (contradicted && e.wrong_described < 12) {
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "  exact: EPA bracket [%.17g, %.17g] (status %s), %s placement, size %.3g: exact L-inf depth "
+                          "%.17g; ",
+                          epa->depth_lower, epa->depth, to_string(epa->status), placement_names[m], size, x.depth_inf);
+            e.first_wrong += line + describe(a) + " / " + describe(b) + "\n";
+            ++e.wrong_described;
+        }
+    }
+}
+
 template <class A, class AL, class B, class BL>
-void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, std::mt19937_64& rng, Counts& c) {
+void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, std::mt19937_64& rng, Counts& c,
+              const ExactOracle& oracle = {}) {
     const double size = a.bounding_radius() + b.bounding_radius();
     // One draw per statement: the order of a call's arguments is unspecified, and the corpus must be the same
     // whichever compiler builds it.
@@ -278,8 +430,10 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
     // One query's verdict: finite numbers, a status a query may give on finite shapes, and where long double is
     // decisive the same overlap answer (boolean queries count as wrong booleans, distance queries as wrong
     // distance statuses); the first dozen failures are described.
+    std::vector<Answer> answers;  // for the exact judge
     auto judge = [&](const char* name, bool finite_values, GjkStatus st, bool colliding, bool distance_query,
                      double distance, int iterations) {
+        answers.push_back({name, colliding, distance_query, st, distance});
         const long before = c.failures();
         c.nonfinite += !finite_values;
         c.bad_status += !(st == GjkStatus::separated || st == GjkStatus::touching || st == GjkStatus::intersecting);
@@ -351,9 +505,12 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
             ++c.outliers_described;
         }
     }
+    PenetrationResult<double> epa_result;
+    bool epa_ran = false;
     if (ref_overlap || cold.colliding) {
         ++c.epa_runs;
         const auto p = penetration(a, pa, b, pb);
+        epa_result = p, epa_ran = true;
         ++c.epa_status[std::size_t(p.status)];
         const bool ok_numbers = std::isfinite(p.depth) && std::isfinite(p.distance) && p.normal.allFinite() &&
                                 p.point_a.allFinite() && p.point_b.allFinite();
@@ -380,11 +537,17 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
         }
     }
     c.slowest_us = std::max(c.slowest_us, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    if constexpr (is_polytope_v<A> && is_polytope_v<B>) {
+        if (oracle.pair != nullptr)
+            judge_exactly(oracle, a, pa, b, pb, size, m, answers, epa_ran ? &epa_result : nullptr, c.exact);
+    } else {
+        c.exact.not_judged += oracle.pair != nullptr;
+    }
 }
 
 /// One case of the class pair (KA, KB), make's classes or −1 for a hull from the pool.
 template <int KA, int KB>
-void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Counts& c) {
+void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Counts& c, const ExactOracle& oracle) {
     auto scale_b = [&] { return std::pow(10.0, std::uniform_int_distribution<int>(-6, 6)(rng)); };
     auto hull_index = [&](double s) {
         const int kind = std::uniform_int_distribution<int>(0, HullPool::kinds - 1)(rng);
@@ -393,27 +556,27 @@ void primitive_pair(std::mt19937_64& rng, const HullPool& hulls, Placement m, Co
     if constexpr (KA < 0 && KB < 0) {
         const int ia = hull_index(1.0), ib = m == coincident ? ia : hull_index(scale_b());
         run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], hulls.d[std::size_t(ib)],
-                 hulls.l[std::size_t(ib)], m, rng, c);
+                 hulls.l[std::size_t(ib)], m, rng, c, oracle);
     } else if constexpr (KA < 0) {
         const int ia = hull_index(1.0);
         const ShapeDraw pb = draw_extents(KB, scale_b(), rng);
         run_case(hulls.d[std::size_t(ia)], hulls.l[std::size_t(ia)], shape_of(make<KB, double>(pb)),
-                 shape_of(make<KB, LD>(pb)), m == coincident ? nested : m, rng, c);
+                 shape_of(make<KB, LD>(pb)), m == coincident ? nested : m, rng, c, oracle);
     } else if constexpr (KB < 0) {
         const ShapeDraw pa = draw_extents(KA, 1.0, rng);
         const int ib = hull_index(scale_b());
         run_case(shape_of(make<KA, double>(pa)), shape_of(make<KA, LD>(pa)), hulls.d[std::size_t(ib)],
-                 hulls.l[std::size_t(ib)], m == coincident ? nested : m, rng, c);
+                 hulls.l[std::size_t(ib)], m == coincident ? nested : m, rng, c, oracle);
     } else {
         const ShapeDraw pa = draw_extents(KA, 1.0, rng);
         const ShapeDraw pb = (KA == KB && m == coincident) ? pa : draw_extents(KB, scale_b(), rng);
         run_case(shape_of(make<KA, double>(pa)), shape_of(make<KA, LD>(pa)), shape_of(make<KB, double>(pb)),
-                 shape_of(make<KB, LD>(pb)), KA == KB ? m : (m == coincident ? nested : m), rng, c);
+                 shape_of(make<KB, LD>(pb)), KA == KB ? m : (m == coincident ? nested : m), rng, c, oracle);
     }
 }
 
 /// The class pairs (−1: a hull): every class against a regular partner and against itself, hulls against all.
-using PairRun = void (*)(std::mt19937_64&, const HullPool&, Placement, Counts&);
+using PairRun = void (*)(std::mt19937_64&, const HullPool&, Placement, Counts&, const ExactOracle&);
 inline constexpr std::array<PairRun, 20> pair_runs = {
     primitive_pair<0, 0>,  primitive_pair<0, 1>,   primitive_pair<1, 3>,   primitive_pair<2, 0>, primitive_pair<2, 2>,
     primitive_pair<3, 3>,  primitive_pair<4, 1>,   primitive_pair<4, 4>,   primitive_pair<5, 0>, primitive_pair<-1, -1>,
@@ -424,15 +587,17 @@ inline constexpr std::array<const char*, 20> pair_names = {
     "ell-ell",   "sph-box",  "hull-hull", "hull-box", "cone-hull", "hull-ell",  "sph-hull",
     "hull-caps", "tri-tri",  "tri-box",   "hull-tri", "rbox-rbox", "hull-rbox"};
 
-/// `cases` seeded cases, cycling through the class pairs; counts per pair.
-inline std::array<Counts, pair_runs.size()> run_hard_cases(long cases, unsigned long seed) {
+/// `cases` seeded cases, cycling through the class pairs; counts per pair. With an oracle, the polytope cases are
+/// judged exactly too (Counts::exact); the corpus is the same either way.
+inline std::array<Counts, pair_runs.size()> run_hard_cases(long cases, unsigned long seed,
+                                                           const ExactOracle& oracle = {}) {
     std::mt19937_64 rng(seed);
     const HullPool hulls(rng);
     std::array<Counts, pair_runs.size()> per_pair{};
     for (long i = 0; i < cases; ++i) {
         const std::size_t p = std::size_t(i) % pair_runs.size();
         const auto m = Placement(std::uniform_int_distribution<int>(0, placements - 1)(rng));
-        pair_runs[p](rng, hulls, m, per_pair[p]);
+        pair_runs[p](rng, hulls, m, per_pair[p], oracle);
     }
     return per_pair;
 }

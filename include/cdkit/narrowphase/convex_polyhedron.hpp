@@ -150,8 +150,14 @@ public:
     [[nodiscard]] CDKIT_NOINLINE std::uint32_t search_from(const Vec3<S>& d, std::uint32_t best,
                                                           S best_dot) const noexcept {
         if (vertices_.size() <= brute_force_limit) return brute_force_index(d);
-        const std::uint32_t start = table_start(d);
-        if (start != std::uint32_t(-1)) {
+        S m;
+        const int cell = direction_cell(d, m, support_res_);
+        if (cell >= 0) {
+            const std::uint32_t entry = start_table_[std::size_t(cell)];
+            const std::uint32_t start = entry & ~certified_bit;
+            // A certified cell (build_start_table): its vertex is the strict maximum over the whole cell, with
+            // a margin above the products' rounding, so no scan is needed to prove it.
+            if ((entry & certified_bit) && m >= certified_low_ && m <= certified_high_) return start;
             const S t = d.dot(vertices_[start]);
             if (best == std::uint32_t(-1) || t > best_dot) { best_dot = t; best = start; }
             return climb(d, best, best_dot);
@@ -383,12 +389,73 @@ private:
     /// most queries (a cell is narrower than the normal cone of a vertex of hulls up to a few hundred vertices),
     /// so the climb is a scan or two instead of the six seeds and a longer climb. Only the start depends on
     /// it: the climb still ends at a vertex no neighbour beats, the global maximum.
+    ///
+    /// A cell whose vertex v is the only maximiser over the whole cell, by a margin, is marked certified
+    /// (`certified_bit`) and answered without any scan (issue 39: on hulls of real meshes most support calls of a
+    /// cold GJK query came with a hint that was not the answer, paid a failed scan around it and then one or two
+    /// climbing scans from this table). The certificate: on the cube face the cell is a square of directions c
+    /// (c's largest component ±1), slightly enlarged (by `cell_slack`, more than the rounding of the cell index),
+    /// and for every neighbour n of v, c·(v − n) is linear in c, so its minimum over the square is at a corner;
+    /// it must exceed `margin` = 64ε·|vertices|∞ there (evaluated in long double). That bounds every other vertex
+    /// u too: u − v = Σ λ_k (n_k − v) with λ ≥ 0 (the polytope lies in v's edge cone) and Σ λ_k ≥ 1 (else u would
+    /// be a convex combination of v and its neighbours, not a corner — hence the topology check), so
+    /// c·(v − u) ≥ Σ λ_k c·(v − n_k) > margin. A query d = m·c in the cell then has d·(v − u) > m·margin, more than
+    /// the rounding of the two products in S (each within 3ε(1+ε)·Σ|d_i||x_i| ≤ 9ε·m·|vertices|∞ while no product
+    /// underflows or overflows, which the range [certified_low_, certified_high_] of m ensures), so
+    /// fl(d·v) > fl(d·u): v is exactly brute force's answer.
     void build_start_table() {
+        using W = long double;
         if (vertices_.size() <= brute_force_limit) return;
-        start_table_.resize(std::size_t(cells));
-        for (int cell = 0; cell < cells; ++cell)
-            start_table_[std::size_t(cell)] = brute_force_index(cell_direction(cell));
+        // Finer tables for larger hulls (their vertices' normal cones are narrower): about ≥ 4 cells per vertex,
+        // at most 32 × 32 per cube face (24 KiB).
+        support_res_ = table_res;
+        while (support_res_ < 4 * table_res && 6 * support_res_ * support_res_ < 4 * int(vertices_.size()))
+            support_res_ *= 2;
+        const int n = 6 * support_res_ * support_res_;
+        start_table_.resize(std::size_t(n));
+        // Each cell's centre support vertex, climbing from the previous cell's (neighbouring directions);
+        // the climb's answer is exact (a vertex no neighbour beats), and only certified cells skip the scan.
+        std::uint32_t prev = brute_force_index(cell_direction(0, support_res_));
+        for (int cell = 0; cell < n; ++cell) {
+            const Vec3<S> d = cell_direction(cell, support_res_);
+            prev = climb(d, prev, d.dot(vertices_[prev]));
+            start_table_[std::size_t(cell)] = prev;
+        }
+        if (!topology_ok_) return;  // certificates need every vertex to be a corner (see below)
+        W r = 0;  // |vertices|∞
+        for (const auto& v : vertices_) r = std::max(r, W(v.cwiseAbs().maxCoeff()));
+        const W eps = W(std::numeric_limits<S>::epsilon());
+        const W margin = W(64) * eps * r;
+        if (!(margin > W(0)) || !(r < W(std::numeric_limits<S>::max()))) return;
+        // m·margin above the absolute error of subnormal products (≤ 3 denorm_min per dot product), and
+        // m·3·|vertices|∞ far below overflow.
+        certified_low_ = detail::round_up(S(W(1 << 20) * W(std::numeric_limits<S>::min()) / margin));
+        certified_high_ = detail::round_down(S(W(std::numeric_limits<S>::max()) / (W(16) * r)));
+        if (!(certified_low_ < certified_high_)) return;
+        const W slack = W(cell_slack) * eps;
+        const int res = support_res_;
+        for (int cell = 0; cell < n; ++cell) {
+            const std::uint32_t v = start_table_[std::size_t(cell)];
+            const int face = cell / (res * res), i = cell / res % res, j = cell % res;
+            const int axis = face / 2;
+            bool ok = true;
+            for (int corner = 0; corner < 4 && ok; ++corner) {
+                Vec3<W> c;
+                c[axis] = face % 2 ? W(-1) : W(1);
+                const int ci = i + (corner & 1), cj = j + (corner >> 1);
+                c[(axis + 1) % 3] = W(2 * ci) / W(res) - W(1) + (corner & 1 ? slack : -slack);
+                c[(axis + 2) % 3] = W(2 * cj) / W(res) - W(1) + (corner >> 1 ? slack : -slack);
+                const W cv = c.dot(vertices_[v].template cast<W>());
+                for (std::uint32_t e = offsets_[v]; e < offsets_[v + 1] && ok; ++e)
+                    ok = cv - c.dot(vertices_[neighbours_[e]].template cast<W>()) > margin;
+            }
+            if (ok) start_table_[std::size_t(cell)] |= certified_bit;
+        }
     }
+    /// How far (in units of ε, in the cube-face coordinates, where a face spans [−1, 1]) a certified cell is
+    /// enlarged: the cell index of a direction is computed with a handful of roundings (below 8ε there).
+    static constexpr int cell_slack = 64;
+    static constexpr std::uint32_t certified_bit = 0x80000000u;
     static constexpr int cells = 6 * table_res * table_res;
 
     /// The tetrahedra (centre, hull triangle) of contains_strictly, their neighbours and error bound, and the
@@ -475,37 +542,43 @@ private:
 
     /// The direction table's cell of d (see build_start_table); −1 when d is zero, subnormal or not finite.
     [[nodiscard]] CDKIT_ALWAYS_INLINE static int direction_cell(const Vec3<S>& d) noexcept {
+        S m;
+        return direction_cell(d, m);
+    }
+    /// The same, with m = |d|∞ (the largest absolute component), for a table of `res` × `res` cells per face.
+    [[nodiscard]] CDKIT_ALWAYS_INLINE static int direction_cell(const Vec3<S>& d, S& m, int res = table_res) noexcept {
         const S x = d[0], y = d[1], z = d[2];
         const S ax = std::abs(x), ay = std::abs(y), az = std::abs(z);
         int face;
-        S m, u, v;
+        S u, v;
         if (ax >= ay && ax >= az) { face = x < S(0); m = ax; u = y; v = z; }
         else if (ay >= az) { face = 2 + (y < S(0)); m = ay; u = z; v = x; }
         else { face = 4 + (z < S(0)); m = az; u = x; v = y; }
-        constexpr S half = S(table_res) / S(2);
+        const S half = S(res) / S(2);
         const S k = half / m;
         // |u|, |v| ≤ m, so fi, fj lie in [0, table_res] up to rounding; anything else (NaN or infinite
         // components, a zero or subnormal direction) is not tabulated.
         const S fi = u * k + half, fj = v * k + half;
-        if (!(fi > S(-1) && fi < S(table_res + 1) && fj > S(-1) && fj < S(table_res + 1))) return -1;
-        const int i = std::clamp(int(fi), 0, table_res - 1);
-        const int j = std::clamp(int(fj), 0, table_res - 1);
-        return (face * table_res + i) * table_res + j;
+        if (!(fi > S(-1) && fi < S(res + 1) && fj > S(-1) && fj < S(res + 1))) return -1;
+        const int i = std::clamp(int(fi), 0, res - 1);
+        const int j = std::clamp(int(fj), 0, res - 1);
+        return (face * res + i) * res + j;
     }
     /// The cell's centre direction (the one tabulated for it).
-    [[nodiscard]] static Vec3<S> cell_direction(int cell) noexcept {
-        const int face = cell / (table_res * table_res), i = cell / table_res % table_res, j = cell % table_res;
+    [[nodiscard]] static Vec3<S> cell_direction(int cell, int res = table_res) noexcept {
+        const int face = cell / (res * res), i = cell / res % res, j = cell % res;
         const int axis = face / 2;
         Vec3<S> d;
         d[axis] = face % 2 ? S(-1) : S(1);
-        d[(axis + 1) % 3] = S(2 * i + 1) / S(table_res) - S(1);
-        d[(axis + 2) % 3] = S(2 * j + 1) / S(table_res) - S(1);
+        d[(axis + 1) % 3] = S(2 * i + 1) / S(res) - S(1);
+        d[(axis + 2) % 3] = S(2 * j + 1) / S(res) - S(1);
         return d;
     }
     /// The table's start vertex for direction d; uint32(-1) when d is zero or not finite.
     [[nodiscard]] CDKIT_ALWAYS_INLINE std::uint32_t table_start(const Vec3<S>& d) const noexcept {
-        const int cell = direction_cell(d);
-        return cell < 0 ? std::uint32_t(-1) : start_table_[std::size_t(cell)];
+        S m;
+        const int cell = direction_cell(d, m, support_res_);
+        return cell < 0 ? std::uint32_t(-1) : start_table_[std::size_t(cell)] & ~certified_bit;
     }
     /// Climbs to the best neighbour of the current vertex until none is better; each step strictly
     /// increases d·x, so it stops after at most |V| steps.
@@ -594,6 +667,8 @@ private:
     std::vector<std::uint32_t> ring_begin_;  ///< vertex v's ring: pairs ring_begin_[v] .. ring_begin_[v + 1]
     std::array<std::uint32_t, 6> seeds_{};
     std::vector<std::uint32_t> start_table_;  ///< see build_start_table (empty for brute-force hulls)
+    int support_res_ = table_res;  ///< cells per cube-face side of start_table_ (table_res … 4·table_res)
+    S certified_low_ = S(1), certified_high_ = S(0);  ///< range of |d|∞ for certified cells (empty: none)
     /// The tetrahedron joining the centre to a hull triangle (see build_cones).
     struct CentralCone {
         Vec3<S> normal = Vec3<S>::Zero();  ///< the triangle's outward unit normal; its plane is normal·x = offset

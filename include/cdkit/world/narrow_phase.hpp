@@ -2,8 +2,9 @@
 /// \file Narrow-phase dispatch of World: one function that takes two posed Shapes and runs the test that
 /// matches their kinds, returning a plain contact struct.
 ///
-///   convex – convex : GJK boolean test (warm-started from the caller's per-pair GjkCache; van den Bergen,
-///                     JGT 1999), then EPA for depth, normal and witness points (van den Bergen, GDC 2001);
+///   convex – convex : the contact manifold (manifold/contact_manifold.hpp): GJK boolean test (warm-started from
+///                     the caller's per-pair GjkCache; van den Bergen, JGT 1999), EPA for depth and normal (van
+///                     den Bergen, GDC 2001), then up to four points from the touching faces or edges;
 ///   mesh – mesh     : collide() on the two OBB trees (first intersecting triangle pair as the witness);
 ///   convex – mesh   : collide(mesh, pose, shape, pose) of mesh_convex/collide.hpp: descent of the mesh's OBB tree
 ///                     against the shape's bound in the mesh frame, then the exact sphere / capsule test or GJK
@@ -12,6 +13,9 @@
 /// Contacts that involve a mesh are surface contacts (a triangle touches or crosses the other shape): a
 /// convex shape lying wholly inside a closed mesh is *not* reported, and no penetration depth is given
 /// (has_depth is false). Use a convex representation where volume matters (suggest_representation.hpp).
+/// With a contact margin (ManifoldRequest::margin > 0) pairs apart by at most the margin are reported too, as
+/// speculative contacts: `colliding` false, `distance` their separation, points with negative depth (meshes: their
+/// closest points).
 /// All functions are const on their inputs, noexcept apart from allocation, and thread-safe; the only
 /// mutable state is the caller-owned cache.
 
@@ -20,7 +24,10 @@
 #include "cdkit/ccd/mesh_ccd.hpp"
 #include "cdkit/ccd/mesh_convex_toi.hpp"
 #include "cdkit/ccd/mesh_toi.hpp"
+#include "cdkit/distance.hpp"
+#include "cdkit/manifold/contact_manifold.hpp"
 #include "cdkit/mesh_convex/collide.hpp"
+#include "cdkit/mesh_convex/distance.hpp"
 #include "cdkit/narrowphase/epa.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 #include "cdkit/query.hpp"
@@ -37,13 +44,22 @@ enum class PairMethod { convex_convex, convex_mesh, mesh_mesh };
 template <class S = double> struct WorldContact {
     ObjectId a = 0, b = 0;
     PairMethod method = PairMethod::convex_convex;
-    /// Convex–convex: true, and depth/normal/points come from EPA. With a mesh: false, depth 0, normal zero,
-    /// point_a == point_b a witness point where the surfaces touch.
+    /// Touching or overlapping; false for a speculative contact (apart by `distance` ≤ the World's contact margin).
+    bool colliding = true;
+    S distance = S(0);  ///< separation of a speculative contact; 0 when colliding
+    /// Convex–convex: true, and depth/normal/points come from the contact manifold. With a mesh: false, depth 0,
+    /// point_a == point_b a witness point where the surfaces touch, normal zero (a speculative contact: the
+    /// closest points and the direction between them).
     bool has_depth = false;
-    S depth = S(0);                          ///< penetration depth ≥ 0 (0: touching)
+    S depth = S(0);                          ///< penetration depth ≥ 0 of the deepest point (0: touching)
     Vec3<S> normal = Vec3<S>::Zero();        ///< unit, from a towards b: moving b by depth·normal separates them
     Vec3<S> point_a = Vec3<S>::Zero();       ///< deepest point of a (on b's side)
     Vec3<S> point_b = Vec3<S>::Zero();       ///< deepest point of b
+    /// The manifold: up to four points sharing `normal`, each with its depth and a feature id that stays the same
+    /// from step to step while the same features touch (convex pairs; a face on a face gives up to four). Mesh
+    /// contacts and CCD contacts carry their one witness here.
+    int point_count = 0;
+    std::array<ManifoldPoint<S>, 4> points{};
     int gjk_iterations = 0;                  ///< of the warm-started boolean test (convex–convex)
     /// When in the step the contact begins: 1 for a contact at the poses of step() (a discrete test); below 1
     /// for a pair with a CCD object (World::set_ccd), the fraction of the motion since the previous step at which
@@ -71,32 +87,63 @@ std::optional<WorldContact<S>> convex_vs_mesh(const Convex& c, [[maybe_unused]] 
     return w;
 }
 
+/// A speculative contact from closest points (a on the first shape, b on the second) apart by `d`.
+template <class S> WorldContact<S> speculative_contact(PairMethod method, const Vec3<S>& a, const Vec3<S>& b, S d) {
+    WorldContact<S> w;
+    w.method = method;
+    w.colliding = false;
+    w.distance = d;
+    w.point_a = a;
+    w.point_b = b;
+    w.normal = safe_normalized(Vec3<S>(b - a));
+    return w;
+}
+
+/// A contact of one point (meshes, CCD): the witness pair becomes the manifold's point.
+template <class S> WorldContact<S> with_witness(WorldContact<S> w) {
+    if (w.point_count == 0) {
+        w.point_count = 1;
+        w.points[0] = {w.point_a, w.point_b, w.colliding ? w.depth : -w.distance, 0};
+    }
+    return w;
+}
+
 }  // namespace detail
 
 /// Narrow phase for one pair: shape `a` of object `id_a` at `pose_a` against `b`. Returns a contact when the
-/// shapes touch or overlap. `cache` (optional, one per pair, caller-owned) warm-starts GJK for convex pairs.
-/// Poses must be rigid (World checks them on entry). Const and thread-safe.
+/// shapes touch or overlap, or lie within `request.margin` (a speculative contact). `request` also chooses the
+/// single-point contact over the manifold for convex pairs (`single_point`) and the feature angle. `cache`
+/// (optional, one per pair, caller-owned) warm-starts GJK and keeps the manifold ids of convex pairs. Poses must be rigid (World checks
+/// them on entry). Const and thread-safe.
 template <class S>
 [[nodiscard]] std::optional<WorldContact<S>> collide_shapes(ObjectId id_a, const Shape<S>& a, const Transform<S>& pose_a,
                                                             ObjectId id_b, const Shape<S>& b, const Transform<S>& pose_b,
-                                                            GjkCache<S>* cache = nullptr) {
-    if (id_b < id_a) return collide_shapes(id_b, b, pose_b, id_a, a, pose_a, cache);
+                                                            ManifoldCache<S>* cache = nullptr,
+                                                            const ManifoldRequest& request = {}) {
+    if (id_b < id_a) return collide_shapes(id_b, b, pose_b, id_a, a, pose_a, cache, request);
     const Transform<S> pa = a.placed(pose_a), pb = b.placed(pose_b);
+    const S margin = S(request.margin);
     std::optional<WorldContact<S>> out;
     if (a.is_convex() && b.is_convex()) {
         out = a.visit_convex([&](const auto& ca) {
             return b.visit_convex([&](const auto& cb) -> std::optional<WorldContact<S>> {
-                const GjkResult<S> g = gjk_intersect(ca, pa, cb, pb, cache);
-                if (!g.colliding) return std::nullopt;
-                const PenetrationResult<S> p = penetration(ca, pa, cb, pb);
+                const ContactManifold<S> m = contact_manifold(ca, pa, cb, pb, request, cache);
+                if (m.count == 0) return std::nullopt;
                 WorldContact<S> w;
                 w.method = PairMethod::convex_convex;
+                w.colliding = m.colliding;
+                w.distance = m.distance;
                 w.has_depth = true;
-                w.depth = p.depth;
-                w.normal = p.normal;
-                w.point_a = p.point_a;
-                w.point_b = p.point_b;
-                w.gjk_iterations = g.iterations;
+                w.normal = m.normal;
+                int deepest = 0;
+                for (int i = 1; i < m.count; ++i)
+                    if (m.points[i].depth > m.points[deepest].depth) deepest = i;
+                w.depth = std::max(m.points[deepest].depth, S(0));
+                w.point_a = m.points[deepest].point_a;
+                w.point_b = m.points[deepest].point_b;
+                w.point_count = m.count;
+                w.points = m.points;
+                w.gjk_iterations = m.stats.gjk_iterations;
                 return w;
             });
         });
@@ -107,19 +154,31 @@ template <class S>
             w.method = PairMethod::mesh_mesh;
             w.point_a = w.point_b = r.contacts.front().point;
             out = w;
+        } else if (margin > S(0)) {
+            const DistanceResult<S> d = distance(a.mesh_model(), pa, b.mesh_model(), pb);
+            if (d.distance <= margin)
+                out = detail::speculative_contact(PairMethod::mesh_mesh, d.point_a, d.point_b, d.distance);
         }
     } else {
-        const Shape<S>& convex = a.is_convex() ? a : b;
-        const Shape<S>& mesh = a.is_convex() ? b : a;
-        const Transform<S>& pc = a.is_convex() ? pa : pb;
-        const Transform<S>& pm = a.is_convex() ? pb : pa;
-        out = convex.visit_convex([&](const auto& c) {
-            return detail::convex_vs_mesh(c, convex.local_bounds(), pc, mesh.mesh_model(), pm);
+        const bool convex_first = a.is_convex();
+        const Shape<S>& convex = convex_first ? a : b;
+        const Shape<S>& mesh = convex_first ? b : a;
+        const Transform<S>& pc = convex_first ? pa : pb;
+        const Transform<S>& pm = convex_first ? pb : pa;
+        out = convex.visit_convex([&](const auto& c) -> std::optional<WorldContact<S>> {
+            if (auto w = detail::convex_vs_mesh(c, convex.local_bounds(), pc, mesh.mesh_model(), pm)) return w;
+            if (!(margin > S(0))) return std::nullopt;
+            const MeshConvexDistanceResult<S> d = distance(mesh.mesh_model(), pm, c, pc);
+            if (!(d.distance <= margin)) return std::nullopt;
+            return convex_first
+                       ? detail::speculative_contact(PairMethod::convex_mesh, d.point_shape, d.point_mesh, d.distance)
+                       : detail::speculative_contact(PairMethod::convex_mesh, d.point_mesh, d.point_shape, d.distance);
         });
     }
     if (out) {
         out->a = id_a;
         out->b = id_b;
+        out = detail::with_witness(*out);
     }
     return out;
 }
@@ -152,7 +211,7 @@ template <class S>
                 w.point_b = r.point_b;
                 w.gjk_iterations = r.iterations;
                 w.toi = r.toi;
-                return w;
+                return detail::with_witness(w);
             });
         });
     }
@@ -165,13 +224,13 @@ template <class S>
             if (!r.colliding) return std::nullopt;
             w.point_a = w.point_b = r.contacts.front().ccd.point;
             w.toi = r.toi;
-            return w;
+            return detail::with_witness(w);
         }
         const ToiResult r = mesh_toi(a.mesh_model(), sa, ea, b.mesh_model(), sb, eb);  // vertices on arcs
         if (!r.colliding) return std::nullopt;
         w.point_a = w.point_b = (r.point_a + r.point_b) / 2;
         w.toi = r.toi;
-        return w;
+        return detail::with_witness(w);
     }
     // A convex shape and a mesh: the advancement on their distance (the mesh as the first object).
     const bool mesh_first = !a.is_convex();
@@ -185,7 +244,7 @@ template <class S>
     w.method = PairMethod::convex_mesh;
     w.point_a = w.point_b = (r.point_a + r.point_b) / 2;
     w.toi = r.toi;
-    return w;
+    return detail::with_witness(w);
 }
 
 }  // namespace cdkit

@@ -1,6 +1,6 @@
 #pragma once
 /// \file The representation an object of a World carries: the cheapest one that answers its queries
-/// (sphere, box, capsule, convex hull, or a mesh with its BVH), chosen by the user (or suggested by
+/// (sphere, box, capsule, cylinder, cone, ellipsoid, triangle, convex hull, or a mesh with its BVH), chosen by the user (or suggested by
 /// suggest_representation.hpp), optionally placed in the object's frame by a fixed offset.
 ///
 /// Shapes are immutable values; hulls and mesh models are held by shared_ptr so many objects can share
@@ -19,7 +19,8 @@
 namespace cdkit {
 
 /// Which representation a Shape holds.
-enum class ShapeKind { sphere, box, capsule, convex_hull, mesh };
+/// (The order is the one of Shape's variant; later kinds were added at the end.)
+enum class ShapeKind { sphere, box, capsule, convex_hull, mesh, cylinder, cone, ellipsoid, triangle };
 
 /// Name of a kind, for messages and reports.
 [[nodiscard]] inline const char* to_string(ShapeKind k) noexcept {
@@ -29,6 +30,10 @@ enum class ShapeKind { sphere, box, capsule, convex_hull, mesh };
         case ShapeKind::capsule: return "capsule";
         case ShapeKind::convex_hull: return "convex_hull";
         case ShapeKind::mesh: return "mesh";
+        case ShapeKind::cylinder: return "cylinder";
+        case ShapeKind::cone: return "cone";
+        case ShapeKind::ellipsoid: return "ellipsoid";
+        case ShapeKind::triangle: return "triangle";
     }
     return "?";
 }
@@ -49,6 +54,16 @@ public:
     [[nodiscard]] static Shape box(const Vec3<S>& half_extents) { return Shape(Box<S>(half_extents)); }
     /// Capsule: segment from (0,0,−half_length) to (0,0,+half_length) grown by radius.
     [[nodiscard]] static Shape capsule(S radius, S half_length) { return Shape(Capsule<S>(radius, half_length)); }
+    /// Cylinder of radius r around the z axis, z ∈ [−half_height, half_height].
+    [[nodiscard]] static Shape cylinder(S radius, S half_height) { return Shape(Cylinder<S>(radius, half_height)); }
+    /// Cone: base disc of radius r at z = −half_height, apex at z = +half_height.
+    [[nodiscard]] static Shape cone(S radius, S half_height) { return Shape(Cone<S>(radius, half_height)); }
+    /// Axis-aligned ellipsoid with the given semi-axes (≥ 0, finite).
+    [[nodiscard]] static Shape ellipsoid(const Vec3<S>& radii) { return Shape(Ellipsoid<S>(radii)); }
+    /// A flat triangle (finite vertices; a degenerate one is a segment or a point, still convex).
+    [[nodiscard]] static Shape triangle(const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c) {
+        return Shape(ConvexTriangle<S>(a, b, c));
+    }
     /// Convex hull of points (Qhull; throws cdkit::Error for < 4 points, NaN, or a flat set).
     [[nodiscard]] static Shape convex_hull(const std::vector<Vec3<S>>& points) {
         return convex_hull(std::make_shared<const ConvexPolyhedron<S>>(points));
@@ -91,6 +106,10 @@ public:
             case ShapeKind::sphere: return f(std::get<0>(value_));
             case ShapeKind::box: return f(std::get<1>(value_));
             case ShapeKind::capsule: return f(std::get<2>(value_));
+            case ShapeKind::cylinder: return f(std::get<5>(value_));
+            case ShapeKind::cone: return f(std::get<6>(value_));
+            case ShapeKind::ellipsoid: return f(std::get<7>(value_));
+            case ShapeKind::triangle: return f(std::get<8>(value_));
             default: return f(*std::get<3>(value_));
         }
     }
@@ -108,7 +127,8 @@ public:
     }
 
 private:
-    using Value = std::variant<Sphere<S>, Box<S>, Capsule<S>, Hull, Mesh>;
+    using Value = std::variant<Sphere<S>, Box<S>, Capsule<S>, Hull, Mesh, Cylinder<S>, Cone<S>, Ellipsoid<S>,
+                               ConvexTriangle<S>>;
     explicit Shape(Value v) : value_(std::move(v)) { local_ = compute_local(); }
 
     Aabb<S> compute_local() const {
@@ -125,6 +145,24 @@ private:
                 const auto& c = std::get<2>(value_);
                 const Vec3<S> h(c.radius, c.radius, c.radius + c.half_length);
                 return Aabb<S>::from_min_max(-h, h);
+            }
+            case ShapeKind::cylinder: {
+                const auto& c = std::get<5>(value_);
+                const Vec3<S> h(c.radius, c.radius, c.half_height);
+                return Aabb<S>::from_min_max(-h, h);
+            }
+            case ShapeKind::cone: {
+                const auto& c = std::get<6>(value_);
+                const Vec3<S> h(c.radius, c.radius, c.half_height);
+                return Aabb<S>::from_min_max(-h, h);
+            }
+            case ShapeKind::ellipsoid: {
+                const Vec3<S> r = std::get<7>(value_).radii;
+                return Aabb<S>::from_min_max(-r, r);
+            }
+            case ShapeKind::triangle: {
+                const auto& t = std::get<8>(value_);
+                return bounds_of({t.a, t.b, t.c});
             }
             case ShapeKind::convex_hull: return bounds_of(std::get<3>(value_)->vertices());
             case ShapeKind::mesh: return bounds_of(std::get<4>(value_)->mesh().vertices);

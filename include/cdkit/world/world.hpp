@@ -1,14 +1,15 @@
 #pragma once
 /// \file World: objects with a shape and a pose, and step(), which runs the whole pipeline
 ///   broad phase (SAP, grid, dynamic AABB tree or brute force) → interest matrix (group / pair filters, a
-///   per-pair GJK warm-start cache that lives while the pair's boxes overlap) → narrow phase (dispatch by
+///   per-pair cache (GJK's warm start, the manifold's ids) that lives while the pair's boxes overlap) → narrow phase (dispatch by
 ///   shape kinds, world/narrow_phase.hpp) → contacts, sorted by (a, b).
 ///
 /// The narrow phase runs over the candidate pairs in parallel with TBB when `WorldOptions::parallel` is set
 /// and the library was built with TBB (CDKIT_HAS_TBB); each pair reads and writes only its own cache and
 /// result slot, so the contacts are identical to the sequential run. Without TBB `parallel` is ignored.
 ///
-/// Every pair of shape kinds is supported (sphere, box, capsule, convex hull, mesh); see
+/// Every pair of shape kinds is supported (sphere, box, capsule, cylinder, cone, ellipsoid, triangle, convex hull,
+/// mesh); see
 /// world/narrow_phase.hpp for what a mesh contact means. Bad input (a non-rigid or non-finite pose, an
 /// unknown id, a group ≥ 64) raises cdkit::Error where it enters; step() does not throw except
 /// std::bad_alloc. Thread safety: const members may run concurrently; add / remove / set_pose / step and
@@ -23,6 +24,7 @@
 #include "cdkit/world/narrow_phase.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <type_traits>
 #include <variant>
 #include <vector>
@@ -41,6 +43,11 @@ struct WorldOptions {
     /// Run the narrow phase with TBB (when built with it) once there are at least `parallel_min_pairs`.
     bool parallel = false;
     std::size_t parallel_min_pairs = 32;
+    /// Convex pairs get contact manifolds (up to four points, manifold/contact_manifold.hpp); off: EPA's single point.
+    bool manifolds = true;
+    /// Speculative contacts: pairs apart by at most this much (≥ 0, finite) are reported too, with `colliding`
+    /// false and their distance. Broad-phase boxes grow by it.
+    double contact_margin = 0;
 };
 
 /// Counters of one step, to explain its time.
@@ -62,7 +69,13 @@ template <class S = double> class World {
 public:
     using Scalar = S;
 
+    /// Throws cdkit::Error for a negative or non-finite contact margin.
     explicit World(const WorldOptions& options = {}) : options_(options) {
+        if (!(options.contact_margin >= 0) || !std::isfinite(options.contact_margin))
+            throw Error("<world>", "WorldOptions::contact_margin", "must be finite and >= 0, got " +
+                                                                  std::to_string(options.contact_margin));
+        request_.margin = options.contact_margin;
+        request_.single_point = !options.manifolds;
         switch (options.broad_phase) {
             case BroadPhaseKind::dynamic_aabb_tree: bp_.template emplace<DynamicAabbTree<S>>(); break;
             case BroadPhaseKind::sweep_and_prune: bp_.template emplace<SweepAndPrune<S>>(); break;
@@ -70,7 +83,7 @@ public:
             case BroadPhaseKind::brute_force: bp_.template emplace<BruteForceBroadPhase<S>>(); break;
             case BroadPhaseKind::sorted_cell_grid: bp_.template emplace<SortedCellGrid<S>>(); break;
         }
-        interest_.on_begin = [this](ObjectPair p, GjkCache<S>& c) { candidates_.push_back({p, &c}); };
+        interest_.on_begin = [this](ObjectPair p, ManifoldCache<S>& c) { candidates_.push_back({p, &c}); };
         interest_.on_persist = interest_.on_begin;
     }
     World(const World&) = delete;  // the interest-matrix callbacks point at this World
@@ -80,7 +93,7 @@ public:
     /// reused afterwards). Throws cdkit::Error for a pose that is not a finite rigid motion.
     ObjectId add(Shape<S> shape, const Transform<S>& pose) {
         check_pose(pose, "add");
-        const BroadBox<S> box = shape.world_box(pose);
+        const BroadBox<S> box = padded(shape.world_box(pose));
         const ObjectId id = std::visit([&](auto& bp) { return bp.insert(box); }, bp_);
         if (id >= objects_.size()) objects_.resize(std::size_t(id) + 1);
         objects_[id] = Object{std::move(shape), pose, true, false, pose};
@@ -155,11 +168,11 @@ public:
             if constexpr (std::is_same_v<S, double>) {
                 if (a.ccd || b.ccd) {
                     results_[i] = continuous_collide_shapes(p.a, *a.shape, a.step_start, a.pose, p.b, *b.shape,
-                                                            b.step_start, b.pose, candidates_[i].cache);
+                                                            b.step_start, b.pose, &candidates_[i].cache->gjk);
                     return;
                 }
             }
-            results_[i] = collide_shapes(p.a, *a.shape, a.pose, p.b, *b.shape, b.pose, candidates_[i].cache);
+            results_[i] = collide_shapes(p.a, *a.shape, a.pose, p.b, *b.shape, b.pose, candidates_[i].cache, request_);
         };
 #if defined(CDKIT_HAS_TBB)
         if (options_.parallel && candidates_.size() >= options_.parallel_min_pairs) {
@@ -201,8 +214,14 @@ private:
     /// A translation, and a mesh's motion (each vertex on a segment), stay in the box of the two end boxes; a
     /// convex shape that turns sweeps arcs that can leave it, so it gets the box of the ball about its frame's
     /// origin (radius: detail::radius_about_origin) along the origin's path.
-    static BroadBox<S> broad_box(const Object& o) {
-        BroadBox<S> box = o.shape->world_box(o.pose);
+    BroadBox<S> padded(BroadBox<S> box) const noexcept {
+        const S m = S(options_.contact_margin);
+        box.lo.array() -= m;
+        box.hi.array() += m;
+        return box;
+    }
+    BroadBox<S> broad_box(const Object& o) const {
+        BroadBox<S> box = padded(o.shape->world_box(o.pose));
         if (!o.ccd) return box;
         const BroadBox<S> from = o.shape->world_box(o.step_start);
         box.lo = box.lo.cwiseMin(from.lo);
@@ -224,7 +243,7 @@ private:
     }
     struct Candidate {
         ObjectPair pair;
-        GjkCache<S>* cache;
+        ManifoldCache<S>* cache;
     };
     static void check_pose(const Transform<S>& pose, const char* op) {
         if (!pose_is_usable(pose))
@@ -237,8 +256,9 @@ private:
     }
 
     WorldOptions options_;
+    ManifoldRequest request_;
     std::variant<DynamicAabbTree<S>, SweepAndPrune<S>, UniformGrid<S>, BruteForceBroadPhase<S>, SortedCellGrid<S>> bp_;
-    InterestMatrix<GjkCache<S>> interest_;
+    InterestMatrix<ManifoldCache<S>> interest_;
     std::vector<Object> objects_;
     std::vector<Candidate> candidates_;
     std::vector<std::optional<WorldContact<S>>> results_;

@@ -1,0 +1,196 @@
+#pragma once
+/// \file Contact manifolds of convex pairs: up to four contact points sharing one normal, so that a box resting on
+/// a box is held at its corners instead of rocking on one point.
+///
+/// The method (the one of box2d and Jolt, in 3-D): GJK decides the pair (warm-started from the caller's cache),
+/// EPA gives the penetration normal n (van den Bergen, GDC 2001); then each shape's supporting feature along the
+/// normal (A's along n, B's along −n: face, edge or vertex, feature.hpp) is found, the better aligned face becomes
+/// the reference, and the other feature is clipped to the prism over it (detail/clip.hpp, Sutherland–Hodgman). Every
+/// clipped point whose height over the reference plane is at most the margin is a contact point, its depth that
+/// height negated, its partner its projection on the reference face; more than four are reduced to the deepest
+/// and those spanning the largest area. Two edges (a capsule lying along a box edge, two parallel capsules) clip
+/// one to the slab of the other. A vertex feature on either side (a sphere, a corner) gives EPA's single point.
+///
+/// Ids hash the reference feature, the incident feature and the clipping plane or vertex that made a point:
+/// they stay equal while the same features touch, which is what a solver needs to warm-start its impulses.
+/// Const, noexcept, thread-safe; the only mutable state is the caller's GJK cache.
+
+#include "cdkit/manifold/detail/clip.hpp"
+#include "cdkit/manifold/result.hpp"
+#include "cdkit/narrowphase/epa.hpp"
+#include "cdkit/narrowphase/gjk.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace cdkit {
+
+namespace detail {
+
+/// One 64-bit id from the features that made a point (splitmix64's finaliser over a running combination).
+[[nodiscard]] inline std::uint64_t contact_id(std::uint64_t ref, std::uint64_t incident, std::uint64_t key) noexcept {
+    std::uint64_t x = ref * 0x9E3779B97F4A7C15ull ^ (incident + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full ^ key;
+    x ^= x >> 30, x *= 0xBF58476D1CE4E5B9ull;
+    x ^= x >> 27, x *= 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+/// The manifold's points from the two features (world frame) along the normal n (A → B); false when clipping
+/// leaves none within the margin (the caller then keeps the single point).
+template <class S>
+bool clip_features(const ContactFeature<S>& fa, const ContactFeature<S>& fb, const Vec3<S>& n, S margin,
+                   ContactManifold<S>& m) noexcept {
+    bool ref_is_a;
+    if (fa.count >= 3 && fb.count >= 3) ref_is_a = fa.normal.dot(n) >= -fb.normal.dot(n) - S(1e-3);  // ties: A
+    else if (fa.count >= 3 || fb.count >= 3) ref_is_a = fa.count >= 3;
+    else ref_is_a = true;  // two edges
+    const ContactFeature<S>& ref = ref_is_a ? fa : fb;
+    const ContactFeature<S>& inc = ref_is_a ? fb : fa;
+    const Vec3<S> up = ref.count >= 3 ? ref.normal : Vec3<S>(ref_is_a ? n : Vec3<S>(-n));  // out of the reference
+
+    ClipPolygon<S> clipped;
+    if (ref.count >= 3) clip_to_face(ref, inc, clipped);
+    else clip_to_segment(ref, inc, clipped);
+    m.stats.clipped_points = clipped.n;
+
+    std::array<CandidatePoint<S>, ClipPolygon<S>::capacity> cand;
+    int nc = 0;
+    // The partner on the reference: the projection on the face's plane, or the nearest point of the reference edge.
+    const auto on_ref = [&](const Vec3<S>& p) -> Vec3<S> {
+        if (ref.count >= 3) return p - up.dot(p - ref.points[0]) * up;
+        const Vec3<S> e = ref.points[1] - ref.points[0];
+        const S len2 = e.squaredNorm();
+        const S t = len2 > S(0) ? std::clamp(S(e.dot(p - ref.points[0]) / len2), S(0), S(1)) : S(0);
+        return ref.points[0] + t * e;
+    };
+    for (int i = 0; i < clipped.n; ++i) {
+        const Vec3<S> r = on_ref(clipped.v[i].p);
+        const S s = up.dot(clipped.v[i].p - r);
+        if (s <= margin) cand[nc++] = {clipped.v[i].p, r, s, clipped.v[i].key};
+    }
+    if (nc == 0) return false;
+    std::array<int, 4> keep{0, 1, 2, 3};
+    const int count = nc > 4 ? reduce_to_four(cand.data(), nc, up, keep) : nc;
+    const Vec3<S> normal = ref_is_a ? up : Vec3<S>(-up);
+    m.normal = normal;
+    m.count = 0;
+    for (int k = 0; k < count; ++k) {
+        const CandidatePoint<S>& c = cand[keep[k]];
+        ManifoldPoint<S>& p = m.points[m.count++];
+        p.point_a = ref_is_a ? c.on_ref : c.p;
+        p.point_b = ref_is_a ? c.p : c.on_ref;
+        p.depth = -c.separation;
+        p.id = contact_id((std::uint64_t(ref.index) << 1) | (ref_is_a ? 0u : 1u), inc.index, c.key);
+    }
+    return true;
+}
+
+/// Gives each point of `m` last frame's id where it has one: the same id, else the nearest old point within
+/// `reach` (A's frame) not taken yet. Then stores `m` as the new last frame.
+template <class S>
+void carry_ids(ContactManifold<S>& m, const Transform<S>& pose_a, ManifoldCache<S>& cache) noexcept {
+    std::array<Vec3<S>, 4> local{};
+    S diameter = S(0);
+    for (int i = 0; i < m.count; ++i) {
+        local[i] = pose_a.R.transpose() * (m.points[i].point_a - pose_a.t);
+        for (int j = 0; j < i; ++j) diameter = std::max(diameter, S((local[i] - local[j]).squaredNorm()));
+    }
+    const S reach2 = diameter / S(100);  // (a tenth of the patch)²
+    std::array<bool, 4> taken{};
+    std::array<bool, 4> matched{};
+    for (int i = 0; i < m.count; ++i)
+        for (int j = 0; j < cache.count; ++j)
+            if (!taken[j] && cache.ids[j] == m.points[i].id) taken[j] = matched[i] = true;
+    for (int i = 0; i < m.count; ++i) {
+        if (matched[i]) continue;
+        int best = -1;
+        S best_d = reach2;
+        for (int j = 0; j < cache.count; ++j) {
+            const S d = (cache.local_a[j] - local[i]).squaredNorm();
+            if (!taken[j] && d <= best_d) best_d = d, best = j;
+        }
+        if (best >= 0) {
+            taken[best] = matched[i] = true;
+            m.points[i].id = cache.ids[best];
+        }
+    }
+    for (int i = 0; i < m.count; ++i) {
+        m.stats.kept_ids += matched[i];
+        // An id already given to an earlier point (two clipped points from the same features): make it unique.
+        for (int j = 0; j < i; ++j)
+            if (m.points[j].id == m.points[i].id) m.points[i].id = contact_id(m.points[i].id, std::uint64_t(i), 0);
+    }
+    cache.count = m.count;
+    for (int i = 0; i < m.count; ++i) cache.local_a[i] = local[i], cache.ids[i] = m.points[i].id;
+}
+
+}  // namespace detail
+
+/// The contact manifold of shape `a` at `pose_a` and shape `b` at `pose_b` (any support-mapped shapes; faces, edges
+/// and the flat parts of curved shapes give several points, see the file comment). `cache` (optional, caller-owned,
+/// one per pair) warm-starts GJK and keeps the points' ids from frame to frame (ManifoldCache). A pose that is not a finite rigid motion gives `QueryStatus::invalid_pose`, a
+/// negative or non-finite margin or a feature angle outside [0, π/4] `invalid_input`, and an empty manifold.
+template <SupportMapped A, SupportMapped B>
+    requires std::same_as<typename A::Scalar, typename B::Scalar>
+[[nodiscard]] ContactManifold<typename A::Scalar> contact_manifold(const A& a, const Transform<typename A::Scalar>& pose_a,
+                                                                   const B& b, const Transform<typename A::Scalar>& pose_b,
+                                                                   const ManifoldRequest& request = {},
+                                                                   ManifoldCache<typename A::Scalar>* cache = nullptr) noexcept {
+    using S = typename A::Scalar;
+    ContactManifold<S> m;
+    if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
+        m.status = QueryStatus::invalid_pose;
+        return m;
+    }
+    if (!(request.margin >= 0) || !std::isfinite(request.margin) || !(request.feature_angle >= 0) ||
+        !(request.feature_angle <= std::numbers::pi / 4)) {
+        m.status = QueryStatus::invalid_input;
+        return m;
+    }
+    GjkCache<S>* gjk_cache = cache ? &cache->gjk : nullptr;
+    const GjkResult<S> g = gjk_intersect(a, pose_a, b, pose_b, gjk_cache);
+    m.stats.gjk_iterations = g.iterations;
+    ManifoldPoint<S> deepest;
+    Vec3<S> n;
+    if (g.colliding) {
+        const PenetrationResult<S> p = penetration(a, pose_a, b, pose_b);
+        m.stats.epa_iterations = p.epa_iterations;
+        m.colliding = true;
+        n = p.normal;
+        deepest = {p.point_a, p.point_b, p.status == GjkStatus::intersecting ? p.depth : S(0), 0};
+    } else {
+        m.distance = g.distance;
+        if (!(request.margin > 0) || g.distance > S(request.margin)) {
+            if (cache) cache->count = 0;
+            return m;
+        }
+        const GjkResult<S> d = gjk_distance(a, pose_a, b, pose_b, gjk_cache);
+        m.stats.gjk_iterations += d.iterations;
+        m.distance = d.distance;
+        if (d.distance > S(request.margin)) {
+            if (cache) cache->count = 0;
+            return m;
+        }
+        m.colliding = d.colliding;
+        n = d.normal;
+        deepest = {d.point_a, d.point_b, -d.distance, 0};
+    }
+    if (!n.allFinite() || !(n.squaredNorm() > S(0.5))) {  // touching at a point EPA gave no direction for
+        n = detail::safe_normalized(Vec3<S>(pose_b * Vec3<S>(b.center()) - pose_a * Vec3<S>(a.center())));
+        if (!(n.squaredNorm() > S(0.5))) n = Vec3<S>(S(0), S(0), S(1));
+    }
+    const detail::FeatureTolerance<S> tol(request.feature_angle);
+    const detail::ContactFeature<S> fa = detail::supporting_feature(a, pose_a, n, tol);
+    const detail::ContactFeature<S> fb = detail::supporting_feature(b, pose_b, Vec3<S>(-n), tol);
+    if (request.single_point || fa.count == 1 || fb.count == 1 || !detail::clip_features(fa, fb, n, S(request.margin), m)) {
+        m.normal = n;
+        m.count = 1;
+        deepest.id = detail::contact_id(std::uint64_t(fa.index) << 1, fb.index, 0xFFFFFFFFull);
+        m.points[0] = deepest;
+    }
+    if (cache) detail::carry_ids(m, pose_a, *cache);
+    return m;
+}
+
+}  // namespace cdkit

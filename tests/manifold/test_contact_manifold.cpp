@@ -1,0 +1,365 @@
+// Contact manifolds of convex pairs: the points a resting pair needs (four corners of a box on a box, two ends of an
+// edge, the rim of a cylinder's base), each on both surfaces with its own depth, ids that persist, speculative points
+// within a margin, bad input, threads. Surfaces are checked by each shape's own geometry (plane distances, radii),
+// not by the GJK that produced the normal. The face-on-face points against the exact intersection polygon: in
+// test_manifold_faces_cgal.cpp.
+#include "cdkit/manifold/contact_manifold.hpp"
+#include "cdkit/world/world.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <map>
+#include <numbers>
+#include <random>
+#include <set>
+#include <thread>
+
+using namespace cdkit;
+using V = Vec3<double>;
+using T = Transform<double>;
+
+namespace {
+
+T rot(double angle, const V& axis, const V& t) { return {Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(), t}; }
+
+/// Distance of world point p to the surface of a box at pose (negative inside): the largest face-plane distance.
+double box_surface_distance(const Box<double>& b, const T& pose, const V& p) {
+    const V l = pose.R.transpose() * (p - pose.t);
+    return (l.cwiseAbs() - b.half).maxCoeff();
+}
+
+const Box<double> ground(V(10, 10, 0.5));
+const T ground_pose = T::translation(V(0, 0, -0.5));  // top face: z = 0
+
+}  // namespace
+
+TEST_CASE("a box flat on the ground touches at its four corners, each at its depth", "[manifold]") {
+    const Box<double> box(V(0.5, 0.3, 0.2));
+    for (double yaw : {0.0, 0.4, 1.2, 2.9}) {
+        const T pose = rot(yaw, V::UnitZ(), V(0.3, -0.2, 0.2 - 0.01));
+        const ContactManifold<double> m = contact_manifold(ground, ground_pose, box, pose);
+        REQUIRE(m.status == QueryStatus::ok);
+        REQUIRE(m.colliding);
+        REQUIRE(m.count == 4);
+        CHECK((m.normal - V::UnitZ()).norm() < 1e-12);
+        std::vector<std::uint64_t> ids;
+        for (int i = 0; i < 4; ++i) {
+            const ManifoldPoint<double>& p = m.points[i];
+            CHECK(p.depth == Approx(0.01).margin(1e-12));
+            CHECK(std::abs(box_surface_distance(box, pose, p.point_b)) < 1e-12);  // a corner of the box
+            const V l = pose.R.transpose() * (p.point_b - pose.t);
+            CHECK(std::abs(std::abs(l.x()) - 0.5) < 1e-12);
+            CHECK(std::abs(std::abs(l.y()) - 0.3) < 1e-12);
+            CHECK(std::abs(p.point_a.z()) < 1e-12);  // on the ground's top face
+            CHECK(((p.point_a - p.point_b).dot(m.normal) - p.depth) == Approx(0).margin(1e-12));
+            ids.push_back(p.id);
+        }
+        std::sort(ids.begin(), ids.end());
+        CHECK(std::adjacent_find(ids.begin(), ids.end()) == ids.end());
+    }
+}
+
+TEST_CASE("a tilted box touches along its lowest edge, a box on a corner at one point", "[manifold]") {
+    const Box<double> box(V(0.5, 0.5, 0.5));
+    // Tilted about x by 0.03 rad (below the feature angle): the face is the feature, two of its corners dip in.
+    const double tilt = 0.03;
+    T pose = rot(tilt, V::UnitX(), V::Zero());
+    const double lowest = -(pose.R * V(0.5, 0.5, -0.5)).z();  // the lowest corner's depth below the centre
+    pose.t = V(0, 0, std::max(lowest, -(pose.R * V(0.5, -0.5, -0.5)).z()) - 0.004);
+    ContactManifold<double> m = contact_manifold(ground, ground_pose, box, pose);
+    REQUIRE(m.count == 2);
+    for (int i = 0; i < 2; ++i) {
+        CHECK(std::abs(box_surface_distance(box, pose, m.points[i].point_b)) < 1e-12);
+        CHECK(m.points[i].depth == Approx(-m.points[i].point_b.z()).margin(1e-12));
+        CHECK(m.points[i].depth == Approx(0.004).margin(1e-9));
+    }
+    // The same tilt with a margin: the lifted corners come back as speculative points (negative depth).
+    ManifoldRequest speculative;
+    speculative.margin = 0.05;
+    m = contact_manifold(ground, ground_pose, box, pose, speculative);
+    REQUIRE(m.count == 4);
+    int lifted = 0;
+    for (int i = 0; i < 4; ++i) {
+        CHECK(m.points[i].depth == Approx(-m.points[i].point_b.z()).margin(1e-12));
+        lifted += m.points[i].depth < 0;
+    }
+    CHECK(lifted == 2);
+    // On a corner (turned about two axes by more than the feature angle): one point, the corner.
+    pose = rot(0.6, V(1, 1, 0), V::Zero());
+    V low = V::Zero();
+    for (double x : {-0.5, 0.5})
+        for (double y : {-0.5, 0.5})
+            for (double z : {-0.5, 0.5}) {
+                const V c = pose.R * V(x, y, z);
+                if (c.z() < low.z()) low = c;
+            }
+    pose.t = V(0, 0, -low.z() - 0.002);
+    m = contact_manifold(ground, ground_pose, box, pose);
+    REQUIRE(m.count == 1);
+    CHECK((m.points[0].point_b - (pose.R * (pose.R.transpose() * low) + pose.t)).norm() < 1e-6);
+    CHECK(m.points[0].depth == Approx(0.002).margin(1e-9));
+}
+
+TEST_CASE("curved shapes: a sphere at one point, a lying capsule at its ends, a cylinder on its base at its rim",
+          "[manifold]") {
+    const ContactManifold<double> s = contact_manifold(ground, ground_pose, Sphere<double>(0.3), T::translation(V(1, 2, 0.29)));
+    REQUIRE(s.count == 1);
+    CHECK(s.points[0].depth == Approx(0.01).margin(1e-9));
+    CHECK((s.points[0].point_b - V(1, 2, -0.01)).norm() < 1e-9);
+
+    const Capsule<double> cap(0.2, 0.6);
+    const T lying = rot(std::numbers::pi / 2, V::UnitY(), V(0, 0, 0.19));
+    const ContactManifold<double> c = contact_manifold(ground, ground_pose, cap, lying);
+    REQUIRE(c.count == 2);
+    for (int i = 0; i < 2; ++i) {
+        CHECK(std::abs(std::abs(c.points[i].point_b.x()) - 0.6) < 1e-9);  // the segment's ends, on the surface
+        CHECK(c.points[i].depth == Approx(0.01).margin(1e-9));
+    }
+
+    const Cylinder<double> cyl(0.4, 0.5);
+    const T standing = rot(0.3, V::UnitZ(), V(0.5, 0, 0.49));
+    const ContactManifold<double> y = contact_manifold(ground, ground_pose, cyl, standing);
+    REQUIRE(y.count == 4);
+    for (int i = 0; i < 4; ++i) {
+        const V l = standing.R.transpose() * (y.points[i].point_b - standing.t);
+        CHECK(l.head<2>().norm() == Approx(0.4).margin(1e-12));  // on the rim
+        CHECK(y.points[i].depth == Approx(0.01).margin(1e-12));
+    }
+}
+
+namespace {
+
+/// Hexagonal prism, axis z, circumradius r, half height h, first corner at angle `phase`.
+std::vector<V> hexagonal_prism(double r, double h, double phase) {
+    std::vector<V> prism;
+    for (int k = 0; k < 6; ++k) {
+        const double a = phase + k * std::numbers::pi / 3;
+        prism.emplace_back(r * std::cos(a), r * std::sin(a), -h);
+        prism.emplace_back(r * std::cos(a), r * std::sin(a), h);
+    }
+    return prism;
+}
+
+/// Area of the convex polygon through the points (any order), in the plane z = const.
+double convex_area_xy(std::vector<V> p) {
+    V c = V::Zero();
+    for (const V& q : p) c += q / double(p.size());
+    std::sort(p.begin(), p.end(), [&](const V& a, const V& b) {
+        return std::atan2(a.y() - c.y(), a.x() - c.x()) < std::atan2(b.y() - c.y(), b.x() - c.x());
+    });
+    double area = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const V& a = p[i];
+        const V& b = p[(i + 1) % p.size()];
+        area += a.x() * b.y() - a.y() * b.x();
+    }
+    return std::abs(area) / 2;
+}
+
+}  // namespace
+
+TEST_CASE("a hull's face on a box, and a hull's edge lying on a box's face", "[manifold]") {
+    const ConvexPolyhedron<double> hull(hexagonal_prism(0.5, 0.25, 0));
+    const T pose = rot(0.2, V::UnitZ(), V(0, 0, 0.24));
+    const ContactManifold<double> m = contact_manifold(ground, ground_pose, hull, pose);
+    REQUIRE(m.count == 4);  // six corners reduced to four
+    std::vector<V> points;
+    for (int i = 0; i < 4; ++i) {
+        CHECK(m.points[i].depth == Approx(0.01).margin(1e-12));
+        points.push_back(m.points[i].point_b);
+    }
+    // The four span at least half the hexagon (area 3√3/2 r² = 0.6495 for r = 0.5); the best four corners span 2/3.
+    CHECK(convex_area_xy(points) > 0.5 * 0.6495);
+    // A prism on its side, a long edge on top (z = 0.5, along y), under a thin box: two points, the edge's ends.
+    const ConvexPolyhedron<double> side_hull(hexagonal_prism(0.5, 0.25, std::numbers::pi / 2));
+    const T side = rot(std::numbers::pi / 2, V::UnitX(), V::Zero());
+    const ContactManifold<double> e =
+        contact_manifold(side_hull, side, Box<double>(V(0.1, 1, 0.1)), T::translation(V(0, 0, 0.5 + 0.1 - 0.005)));
+    REQUIRE(e.count == 2);
+    for (int i = 0; i < 2; ++i) {
+        CHECK(e.points[i].depth == Approx(0.005).margin(1e-9));
+        CHECK(std::abs(e.points[i].point_a.y()) == Approx(0.25).margin(1e-9));
+    }
+}
+
+TEST_CASE("manifold ids persist through a cache while the points move a little", "[manifold]") {
+    const Box<double> box(V(0.5, 0.5, 0.5));
+    ManifoldCache<double> cache;
+    T pose = rot(0.01, V::UnitZ(), V(0, 0, 0.49));
+    const ContactManifold<double> first = contact_manifold(ground, ground_pose, box, pose, {}, &cache);
+    REQUIRE(first.count == 4);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> small(-1e-3, 1e-3);
+    for (int step = 0; step < 50; ++step) {
+        pose = rot(0.01 + small(rng), V(small(rng), small(rng), 1), V(small(rng), small(rng), 0.49 + small(rng)));
+        const ContactManifold<double> m = contact_manifold(ground, ground_pose, box, pose, {}, &cache);
+        REQUIRE(m.count >= 2);
+        for (int i = 0; i < m.count; ++i) {
+            // The point that lies where first's point j lay has first's id.
+            int nearest = 0;
+            for (int j = 1; j < first.count; ++j)
+                if ((first.points[j].point_b - m.points[i].point_b).norm() <
+                    (first.points[nearest].point_b - m.points[i].point_b).norm())
+                    nearest = j;
+            CHECK(m.points[i].id == first.points[nearest].id);
+        }
+    }
+}
+
+TEST_CASE("speculative contacts within the margin, nothing beyond it", "[manifold]") {
+    const Box<double> box(V(0.5, 0.5, 0.5));
+    const T apart = T::translation(V(0, 0, 0.5 + 0.01));
+    CHECK(contact_manifold(ground, ground_pose, box, apart).count == 0);
+    ManifoldRequest r;
+    r.margin = 0.005;
+    CHECK(contact_manifold(ground, ground_pose, box, apart, r).count == 0);
+    r.margin = 0.02;
+    const ContactManifold<double> m = contact_manifold(ground, ground_pose, box, apart, r);
+    CHECK_FALSE(m.colliding);
+    CHECK(m.distance == Approx(0.01).margin(1e-9));
+    REQUIRE(m.count == 4);
+    for (int i = 0; i < 4; ++i) CHECK(m.points[i].depth == Approx(-0.01).margin(1e-9));
+}
+
+TEST_CASE("manifold bad input: a negative or NaN margin, a wide feature angle, a non-rigid pose", "[manifold][robustness]") {
+    const Box<double> box(V(0.5, 0.5, 0.5));
+    const T pose = T::translation(V(0, 0, 0.49));
+    ManifoldRequest r;
+    r.margin = -1;
+    CHECK(contact_manifold(ground, ground_pose, box, pose, r).status == QueryStatus::invalid_input);
+    r.margin = std::numeric_limits<double>::quiet_NaN();
+    CHECK(contact_manifold(ground, ground_pose, box, pose, r).status == QueryStatus::invalid_input);
+    r = {};
+    r.feature_angle = 1.0;
+    CHECK(contact_manifold(ground, ground_pose, box, pose, r).status == QueryStatus::invalid_input);
+    T bad = pose;
+    bad.R(0, 0) = 2;
+    const ContactManifold<double> m = contact_manifold(ground, ground_pose, box, bad);
+    CHECK(m.status == QueryStatus::invalid_pose);
+    CHECK(m.count == 0);
+    CHECK_THROWS_AS(World<double>(WorldOptions{.contact_margin = -0.1}), Error);
+}
+
+TEST_CASE("random convex pairs: every manifold point lies on both shapes' surfaces", "[manifold]") {
+    // Boxes against hexagonal prisms (both checked by plane distances) in random poses near contact.
+    const ConvexPolyhedron<double> hull(hexagonal_prism(0.4, 0.3, 0));
+    const auto hull_distance = [&](const T& pose, const V& p) {
+        const V l = pose.R.transpose() * (p - pose.t);
+        double d = -1e9;
+        for (std::size_t f = 0; f < hull.face_count(); ++f)
+            d = std::max(d, hull.face_normal(std::uint32_t(f)).dot(l) - hull.face_offset(std::uint32_t(f)));
+        return d;
+    };
+    const Box<double> box(V(0.5, 0.2, 0.3));
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int manifolds = 0, multi = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const T pa = rot(3 * u(rng), V(u(rng), u(rng), u(rng) + 1e-3), V::Zero());
+        // Snap half of the poses to face-parallel ones, where manifolds have several points.
+        T pb = trial % 2 ? rot(3 * u(rng), V(u(rng), u(rng), u(rng) + 1e-3), V::Zero()) : T(pa.R, V::Zero());
+        const V dir = V(u(rng), u(rng), u(rng)).normalized();
+        pb.t = dir * 0.55;  // near contact: from overlapping to apart
+        const ContactManifold<double> m = contact_manifold(box, pa, hull, pb);
+        if (m.count == 0) continue;
+        ++manifolds;
+        multi += m.count > 1;
+        for (int i = 0; i < m.count; ++i) {
+            const ManifoldPoint<double>& p = m.points[i];
+            INFO("trial " << trial << " point " << i << " depth " << p.depth);
+            // Each point lies on one surface and inside (or on) the other, as deep as its depth says.
+            CHECK(box_surface_distance(box, pa, p.point_a) < 1e-9);
+            CHECK(hull_distance(pb, p.point_b) < 1e-9);
+            CHECK(((p.point_a - p.point_b).dot(m.normal) - p.depth) == Approx(0).margin(1e-9));
+            CHECK(p.depth >= -1e-9);
+            CHECK(p.depth <= 0.6);
+        }
+        CHECK(std::abs(m.normal.norm() - 1) < 1e-9);
+    }
+    CHECK(manifolds > 100);
+    CHECK(multi > 50);
+}
+
+TEST_CASE("World: manifolds by default, one point when off, speculative contacts within the margin", "[manifold][world]") {
+    for (bool manifolds : {true, false}) {
+        World<double> world(WorldOptions{.manifolds = manifolds});
+        world.add(Shape<double>::box(V(5, 5, 0.5)), ground_pose);
+        world.add(Shape<double>::box(V(0.5, 0.5, 0.5)), rot(0.3, V::UnitZ(), V(0, 0, 0.49)));
+        const WorldStepResult<double> r = world.step();
+        REQUIRE(r.contacts.size() == 1);
+        CHECK(r.contacts[0].point_count == (manifolds ? 4 : 1));
+        CHECK(r.contacts[0].depth == Approx(0.01).margin(1e-9));
+    }
+    World<double> world(WorldOptions{.contact_margin = 0.05});
+    world.add(Shape<double>::box(V(5, 5, 0.5)), ground_pose);
+    const ObjectId b = world.add(Shape<double>::box(V(0.5, 0.5, 0.5)), T::translation(V(0, 0, 0.53)));
+    const ObjectId s = world.add(Shape<double>::sphere(0.2), T::translation(V(3, 0, 0.3)));
+    WorldStepResult<double> r = world.step();
+    REQUIRE(r.contacts.size() == 1);  // the box 3 cm up; the sphere 10 cm up is beyond the margin
+    CHECK_FALSE(r.contacts[0].colliding);
+    CHECK(r.contacts[0].distance == Approx(0.03).margin(1e-9));
+    CHECK(r.contacts[0].point_count == 4);
+    world.set_pose(s, T::translation(V(3, 0, 0.22)));
+    world.set_pose(b, T::translation(V(0, 0, 0.49)));
+    r = world.step();
+    REQUIRE(r.contacts.size() == 2);
+    CHECK(r.contacts[0].colliding);
+    CHECK_FALSE(r.contacts[1].colliding);
+    CHECK(r.contacts[1].point_count == 1);
+    CHECK(r.contacts[1].points[0].depth == Approx(-0.02).margin(1e-9));
+}
+
+TEST_CASE("contact_manifold is const and thread-safe", "[manifold][threads]") {
+    const Box<double> box(V(0.5, 0.4, 0.3));
+    std::vector<T> poses;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 200; ++i) poses.push_back(rot(0.1 * u(rng), V(u(rng), u(rng), 1), V(u(rng), u(rng), 0.28)));
+    std::vector<ContactManifold<double>> reference;
+    for (const T& p : poses) reference.push_back(contact_manifold(ground, ground_pose, box, p));
+    std::vector<int> mismatches(4, 0);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&, t] {
+            for (std::size_t i = 0; i < poses.size(); ++i) {
+                const ContactManifold<double> m = contact_manifold(ground, ground_pose, box, poses[i]);
+                if (m.count != reference[i].count) ++mismatches[t];
+                for (int k = 0; k < std::min(m.count, reference[i].count); ++k)
+                    if (m.points[k].point_b != reference[i].points[k].point_b) ++mismatches[t];
+            }
+        });
+    for (auto& th : threads) th.join();
+    CHECK(mismatches == std::vector<int>(4, 0));
+}
+
+TEST_CASE("World: cylinders, cones, ellipsoids and triangles resting on the ground, and against each other",
+          "[manifold][world]") {
+    World<double> world;
+    world.add(Shape<double>::box(V(20, 20, 0.5)), ground_pose);
+    const ObjectId cyl = world.add(Shape<double>::cylinder(0.4, 0.5), T::translation(V(0, 0, 0.49)));
+    const ObjectId cone = world.add(Shape<double>::cone(0.4, 0.5), T::translation(V(3, 0, 0.49)));
+    const ObjectId ell = world.add(Shape<double>::ellipsoid(V(0.3, 0.4, 0.5)), T::translation(V(6, 0, 0.49)));
+    const ObjectId tri = world.add(Shape<double>::triangle(V(0, 0, 0), V(1, 0, 0), V(0, 1, 0)), T::translation(V(9, 0, -0.01)));
+    CHECK(world.shape(cyl).kind() == ShapeKind::cylinder);
+    CHECK(std::string(to_string(world.shape(tri).kind())) == "triangle");
+    WorldStepResult<double> r = world.step();
+    REQUIRE(r.contacts.size() == 4);
+    const std::map<ObjectId, int> expected_points{{cyl, 4}, {cone, 4}, {ell, 1}, {tri, 3}};
+    for (const WorldContact<double>& c : r.contacts) {
+        INFO("object " << c.b << " (" << to_string(world.shape(c.b).kind()) << ")");
+        CHECK(c.a == 0);
+        CHECK(c.point_count == expected_points.at(c.b));
+        CHECK(c.depth == Approx(0.01).margin(1e-9));
+        CHECK((c.normal - V::UnitZ()).norm() < 1e-6);
+    }
+    // A cone lying on a cylinder's side and an ellipsoid touching the cone: pairs among the new kinds.
+    world.set_pose(cone, T::translation(V(0, 0, 1.49)));  // cone's base on the cylinder's top cap
+    world.set_pose(ell, T::translation(V(0.69, 0, 0.6)));  // the ellipsoid (x radius 0.3) into the cylinder (r 0.4)
+    r = world.step();
+    std::set<std::pair<ObjectId, ObjectId>> pairs;
+    for (const WorldContact<double>& c : r.contacts) pairs.insert({c.a, c.b});
+    CHECK(pairs.count({cyl, cone}) == 1);
+    CHECK(pairs.count({cyl, ell}) == 1);
+    for (const WorldContact<double>& c : r.contacts)
+        if (c.a == cyl && c.b == cone) CHECK(c.point_count == 4);  // disc on disc
+}
