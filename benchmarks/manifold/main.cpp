@@ -2,8 +2,9 @@
 // shapes overlapping by 0.001–0.02: a box resting on a ground box (yaw any, tilt < 0.05 rad: face contacts), two
 // boxes in random orientations, a hexagonal-prism hull resting on the ground, a cylinder standing on it. Methods,
 // interleaved per pose, each warm (one untimed call) and timed as the fastest of 3 batches (batch_timer.hpp):
-// cdkit contact_manifold (up to four points), cdkit with ManifoldRequest::single_point (the same GJK and EPA, no
-// features: what the manifold adds), FCL 0.7 collide with enable_contact and num_max_contacts = 4 (box–box: FCL's
+// cdkit contact_manifold (up to four points; two boxes take the separating-axis path), for the box scenes the same
+// manifold with the boxes given as 8-corner hulls (the general GJK + EPA path: the axis test off), cdkit with
+// ManifoldRequest::single_point (GJK and EPA, no features: what the manifold adds), FCL 0.7 collide with enable_contact and num_max_contacts = 4 (box–box: FCL's
 // box–box routine with up to four contacts; the others: GJK/EPA, one contact). Every pose's boolean is compared.
 // Usage: cdkit_bench_manifold [--poses N] [--csv FILE]
 #include "../bench_util.hpp"
@@ -17,6 +18,7 @@
 #include <fcl/geometry/shape/convex.h>
 #include <fcl/geometry/shape/cylinder.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -103,13 +105,22 @@ int main(int argc, char** argv) try {
     std::uniform_real_distribution<double> u(0, 1);
     struct Row {
         std::string scene;
-        std::vector<double> manifold, single, fcl, points, fcl_contacts;
+        std::vector<double> manifold, general, single, fcl, points, fcl_contacts;
         int disagreements = 0;
     };
     std::vector<Row> rows;
+    const auto box_hull = [](const cdkit::Box<double>& b) {
+        std::vector<V> c;
+        for (double x : {-1.0, 1.0})
+            for (double y : {-1.0, 1.0})
+                for (double z : {-1.0, 1.0}) c.push_back(b.half.cwiseProduct(V(x, y, z)));
+        return cdkit::ConvexPolyhedron<double>(c);
+    };
+    const cdkit::ConvexPolyhedron<double> ground_hull = box_hull(ground), box_as_hull = box_hull(box);
     auto run = [&](const std::string& name, const auto& a, const T& pa_fixed, bool random_a, const auto& b,
                    const std::shared_ptr<fcl::CollisionGeometryd>& ga, const std::shared_ptr<fcl::CollisionGeometryd>& gb,
-                   bool resting) {
+                   bool resting, const cdkit::ConvexPolyhedron<double>* hull_a = nullptr,
+                   const cdkit::ConvexPolyhedron<double>* hull_b = nullptr) {
         Row row{name};
         for (int i = 0; i < poses; ++i) {
             const T pa = random_a ? T(cdbench::random_rotation(rng), V::Zero()) : pa_fixed;
@@ -135,6 +146,8 @@ int main(int argc, char** argv) try {
             row.points.push_back(m.count);
             row.fcl_contacts.push_back(double(res.numContacts()));
             row.manifold.push_back(sample_ns([&] { return cdkit::contact_manifold(a, pa, b, pb).count; }));
+            if (hull_a && hull_b)
+                row.general.push_back(sample_ns([&] { return cdkit::contact_manifold(*hull_a, pa, *hull_b, pb).count; }));
             row.single.push_back(sample_ns([&] { return cdkit::contact_manifold(a, pa, b, pb, single).count; }));
             row.fcl.push_back(sample_ns([&] {
                 fcl::CollisionResultd r;
@@ -144,8 +157,8 @@ int main(int argc, char** argv) try {
         }
         rows.push_back(std::move(row));
     };
-    run("box_on_ground", ground, ground_pose, false, box, fcl_ground, fcl_box, true);
-    run("box_box_random", box, T{}, true, box, fcl_box, fcl_box, false);
+    run("box_on_ground", ground, ground_pose, false, box, fcl_ground, fcl_box, true, &ground_hull, &box_as_hull);
+    run("box_box_random", box, T{}, true, box, fcl_box, fcl_box, false, &box_as_hull, &box_as_hull);
     run("hull_on_ground", ground, ground_pose, false, hull, fcl_ground, fcl_hull, true);
     run("cylinder_on_ground", ground, ground_pose, false, cylinder, fcl_ground, fcl_cyl, true);
 
@@ -153,18 +166,22 @@ int main(int argc, char** argv) try {
     if (csv && !out) throw std::runtime_error(std::string("cannot write ") + csv);
     if (out) {
         cdbench::write_provenance(out, argc, argv);
-        std::fprintf(out, "scene,poses,cdkit_points,fcl_contacts,cdkit_manifold_ns,cdkit_single_point_ns,fcl_ns,ratio,disagreements\n");
+        std::fprintf(out, "scene,poses,cdkit_points,fcl_contacts,cdkit_manifold_ns,cdkit_as_hulls_ns,cdkit_single_point_ns,"
+                          "fcl_ns,ratio,disagreements\n");
     }
-    std::printf("%-20s %6s %7s %7s %12s %14s %10s %7s %6s\n", "scene", "poses", "points", "fcl_pts", "manifold_ns",
-                "single_pt_ns", "fcl_ns", "fcl/cd", "disagr");
+    std::printf("%-20s %6s %7s %7s %12s %12s %14s %10s %7s %6s\n", "scene", "poses", "points", "fcl_pts", "manifold_ns",
+                "as_hulls_ns", "single_pt_ns", "fcl_ns", "fcl/cd", "disagr");
     int disagreements = 0;
     for (const Row& r : rows) {
         const double mf = cdbench::median(r.manifold), sp = cdbench::median(r.single), fc = cdbench::median(r.fcl);
-        std::printf("%-20s %6d %7.0f %7.0f %12.0f %14.0f %10.0f %7.2f %6d\n", r.scene.c_str(), poses,
-                    cdbench::median(r.points), cdbench::median(r.fcl_contacts), mf, sp, fc, fc / mf, r.disagreements);
+        const std::string gen = r.general.empty() ? "" : std::to_string(int(std::lround(cdbench::median(r.general))));
+        std::printf("%-20s %6d %7.0f %7.0f %12.0f %12s %14.0f %10.0f %7.2f %6d\n", r.scene.c_str(), poses,
+                    cdbench::median(r.points), cdbench::median(r.fcl_contacts), mf, gen.c_str(), sp, fc, fc / mf,
+                    r.disagreements);
         if (out)
-            std::fprintf(out, "%s,%d,%.0f,%.0f,%.0f,%.0f,%.0f,%.2f,%d\n", r.scene.c_str(), poses, cdbench::median(r.points),
-                         cdbench::median(r.fcl_contacts), mf, sp, fc, fc / mf, r.disagreements);
+            std::fprintf(out, "%s,%d,%.0f,%.0f,%.0f,%s,%.0f,%.0f,%.2f,%d\n", r.scene.c_str(), poses,
+                         cdbench::median(r.points), cdbench::median(r.fcl_contacts), mf, gen.c_str(), sp, fc, fc / mf,
+                         r.disagreements);
         disagreements += r.disagreements;
     }
     if (out) std::fclose(out);

@@ -363,3 +363,54 @@ TEST_CASE("World: cylinders, cones, ellipsoids and triangles resting on the grou
     for (const WorldContact<double>& c : r.contacts)
         if (c.a == cyl && c.b == cone) CHECK(c.point_count == 4);  // disc on disc
 }
+
+TEST_CASE("two boxes by the axis test agree with the same boxes as hulls through GJK and EPA", "[manifold]") {
+    // Box–box manifolds skip GJK/EPA (detail/box_box.hpp); the same boxes given as 8-corner hulls take the general
+    // path. Random sizes and orientations, placed by bisection to touching and then pushed 0–5 % of the size in.
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> u(0, 1);
+    const auto corners = [](const V& h) {
+        std::vector<V> c;
+        for (double x : {-1.0, 1.0})
+            for (double y : {-1.0, 1.0})
+                for (double z : {-1.0, 1.0}) c.emplace_back(x * h.x(), y * h.y(), z * h.z());
+        return c;
+    };
+    int face_contacts = 0, edge_contacts = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const V ha(0.1 + u(rng), 0.1 + u(rng), 0.1 + u(rng)), hb(0.1 + u(rng), 0.1 + u(rng), 0.1 + u(rng));
+        const Box<double> a(ha), b(hb);
+        const ConvexPolyhedron<double> hull_a(corners(ha)), hull_b(corners(hb));
+        const T pa = rot(6 * u(rng), V(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5), V::Zero());
+        // Half the pairs share an orientation up to a turn about one axis (face contacts), half are random.
+        const T pb0 = trial % 2 ? rot(6 * u(rng), V(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5), V::Zero())
+                                : T(pa.R * rot(u(rng), V::UnitZ(), V::Zero()).R, V::Zero());
+        const V dir = V(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+        double lo = 0, hi = 5;
+        for (int i = 0; i < 60; ++i) {
+            const double mid = (lo + hi) / 2;
+            (gjk_intersect(hull_a, pa, hull_b, T(pb0.R, mid * dir)).colliding ? lo : hi) = mid;
+        }
+        const double size = std::max(ha.maxCoeff(), hb.maxCoeff());
+        const T pb(pb0.R, (lo - 0.05 * size * u(rng)) * dir);
+        const ContactManifold<double> axis = contact_manifold(a, pa, b, pb);
+        const ContactManifold<double> general = contact_manifold(hull_a, pa, hull_b, pb);
+        INFO("trial " << trial);
+        REQUIRE(axis.colliding == general.colliding);
+        if (!axis.colliding) continue;
+        const double depth = penetration(hull_a, pa, hull_b, pb).depth;  // EPA's, on the hulls
+        CHECK(axis.max_depth() >= depth - 1e-9 * size);          // the chosen axis overlaps at least the minimum
+        CHECK(axis.max_depth() <= depth / 0.95 + 1e-9 * size);   // a face axis is kept within 5 % of an edge's
+        CHECK(axis.normal.dot(general.normal) > 0.5);
+        (axis.count > 1 ? face_contacts : edge_contacts) += 1;
+        for (int i = 0; i < axis.count; ++i) {
+            const ManifoldPoint<double>& p = axis.points[i];
+            CHECK(box_surface_distance(a, pa, p.point_a) < 1e-9 * size);
+            CHECK(box_surface_distance(b, pb, p.point_b) < 1e-9 * size);
+            CHECK(std::abs((p.point_a - p.point_b).dot(axis.normal) - p.depth) < 1e-9 * size);
+            CHECK(p.depth >= -1e-9 * size);
+        }
+    }
+    CHECK(face_contacts > 50);
+    CHECK(edge_contacts > 20);
+}

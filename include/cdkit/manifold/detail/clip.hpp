@@ -7,7 +7,9 @@
 /// Bullet's persistent manifolds): a solver supports the body over the whole contact patch with four points.
 
 #include "cdkit/manifold/detail/feature.hpp"
+#include "cdkit/manifold/result.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
@@ -140,6 +142,64 @@ int reduce_to_four(const CandidatePoint<S>* c, int n, const Vec3<S>& normal, std
     if (i3 < 0) return 3;
     keep[3] = i3;
     return 4;
+}
+
+/// One 64-bit id from the features that made a point (splitmix64's finaliser over a running combination).
+[[nodiscard]] inline std::uint64_t contact_id(std::uint64_t ref, std::uint64_t incident, std::uint64_t key) noexcept {
+    std::uint64_t x = ref * 0x9E3779B97F4A7C15ull ^ (incident + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full ^ key;
+    x ^= x >> 30, x *= 0xBF58476D1CE4E5B9ull;
+    x ^= x >> 27, x *= 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+/// The manifold's points from the two features (world frame) along the normal n (A → B); false when clipping
+/// leaves none within the margin (the caller then keeps the single point).
+template <class S>
+bool clip_features(const ContactFeature<S>& fa, const ContactFeature<S>& fb, const Vec3<S>& n, S margin,
+                   ContactManifold<S>& m) noexcept {
+    bool ref_is_a;
+    if (fa.count >= 3 && fb.count >= 3) ref_is_a = fa.normal.dot(n) >= -fb.normal.dot(n) - S(1e-3);  // ties: A
+    else if (fa.count >= 3 || fb.count >= 3) ref_is_a = fa.count >= 3;
+    else ref_is_a = true;  // two edges
+    const ContactFeature<S>& ref = ref_is_a ? fa : fb;
+    const ContactFeature<S>& inc = ref_is_a ? fb : fa;
+    const Vec3<S> up = ref.count >= 3 ? ref.normal : Vec3<S>(ref_is_a ? n : Vec3<S>(-n));  // out of the reference
+
+    ClipPolygon<S> clipped;
+    if (ref.count >= 3) clip_to_face(ref, inc, clipped);
+    else clip_to_segment(ref, inc, clipped);
+    m.stats.clipped_points = clipped.n;
+
+    std::array<CandidatePoint<S>, ClipPolygon<S>::capacity> cand;
+    int nc = 0;
+    // The partner on the reference: the projection on the face's plane, or the nearest point of the reference edge.
+    const auto on_ref = [&](const Vec3<S>& p) -> Vec3<S> {
+        if (ref.count >= 3) return p - up.dot(p - ref.points[0]) * up;
+        const Vec3<S> e = ref.points[1] - ref.points[0];
+        const S len2 = e.squaredNorm();
+        const S t = len2 > S(0) ? std::clamp(S(e.dot(p - ref.points[0]) / len2), S(0), S(1)) : S(0);
+        return ref.points[0] + t * e;
+    };
+    for (int i = 0; i < clipped.n; ++i) {
+        const Vec3<S> r = on_ref(clipped.v[i].p);
+        const S s = up.dot(clipped.v[i].p - r);
+        if (s <= margin) cand[nc++] = {clipped.v[i].p, r, s, clipped.v[i].key};
+    }
+    if (nc == 0) return false;
+    std::array<int, 4> keep{0, 1, 2, 3};
+    const int count = nc > 4 ? reduce_to_four(cand.data(), nc, up, keep) : nc;
+    const Vec3<S> normal = ref_is_a ? up : Vec3<S>(-up);
+    m.normal = normal;
+    m.count = 0;
+    for (int k = 0; k < count; ++k) {
+        const CandidatePoint<S>& c = cand[keep[k]];
+        ManifoldPoint<S>& p = m.points[m.count++];
+        p.point_a = ref_is_a ? c.on_ref : c.p;
+        p.point_b = ref_is_a ? c.p : c.on_ref;
+        p.depth = -c.separation;
+        p.id = contact_id((std::uint64_t(ref.index) << 1) | (ref_is_a ? 0u : 1u), inc.index, c.key);
+    }
+    return true;
 }
 
 }  // namespace cdkit::detail
