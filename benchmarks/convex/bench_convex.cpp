@@ -17,6 +17,7 @@
 // iterations, the error against a long-double reference (cdkit's own GJK/EPA instantiated in long double with
 // tight tolerances) and the share of booleans decided by the bounding-ball pre-test, then a checked counter:
 // seeded cases whose double answer disagrees with the long-double reference.
+#include "../bench_util.hpp"
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/epa.hpp>
@@ -43,19 +44,8 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    q.normalize();
-    return q.toRotationMatrix();
-}
-std::vector<Vec3<double>> cloud(std::mt19937_64& rng, int n, double r) {
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> u(0.5, 1.0);
-    std::vector<Vec3<double>> p;
-    for (int i = 0; i < n; ++i) p.push_back(Vec3<double>(g(rng), g(rng), g(rng)).normalized() * r * u(rng));
-    return p;
-}
+using cdbench::random_rotation;
+inline std::vector<Vec3<double>> cloud(std::mt19937_64& rng, int n, double r) { return cdbench::random_cloud(rng, n, r); }
 template <class T> std::vector<T> castv(const std::vector<Vec3<double>>& p) {
     std::vector<T> o;
     for (const auto& x : p) o.push_back(x.template cast<typename T::Scalar>());

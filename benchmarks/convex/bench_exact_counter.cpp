@@ -8,6 +8,7 @@
 // and the distance query against the exact sign (wrong outside the band of convex_hard_cases.hpp, 1e-10 of the
 // size; exactly touching pairs undecided) and the distance against the exact one (histogram). Non-zero exit on a
 // wrong boolean. Usage: cdkit_bench_convex_exact [cases=1000000]
+#include "../bench_util.hpp"
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/gjk.hpp>
 
@@ -24,20 +25,9 @@ using namespace cdkit;
 
 namespace {
 
-// As bench_convex.cpp's (same calls, same order).
-Mat3<double> random_rotation(std::mt19937_64& rng) {
-    std::normal_distribution<double> g;
-    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-    q.normalize();
-    return q.toRotationMatrix();
-}
-std::vector<Vec3<double>> cloud(std::mt19937_64& rng, int n, double r) {
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> u(0.5, 1.0);
-    std::vector<Vec3<double>> p;
-    for (int i = 0; i < n; ++i) p.push_back(Vec3<double>(g(rng), g(rng), g(rng)).normalized() * r * u(rng));
-    return p;
-}
+// The same draws as bench_convex.cpp (bench_util.hpp).
+using cdbench::random_rotation;
+inline std::vector<Vec3<double>> cloud(std::mt19937_64& rng, int n, double r) { return cdbench::random_cloud(rng, n, r); }
 
 }  // namespace
 

@@ -42,8 +42,20 @@ Shape<double> world_shape(py::handle obj) {
         py::gil_scoped_release nogil;
         return Shape<double>::mesh(std::make_shared<const WorldMeshModel<double>>(m.mesh_ptr()));
     }
+    if (py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj)) {  // a compound: [shape or (shape, pose), ...]
+        std::vector<Shape<double>> children;
+        for (py::handle item : obj) {
+            if (py::isinstance<py::tuple>(item) && py::len(item) == 2) {
+                const py::tuple t = item.cast<py::tuple>();
+                children.push_back(world_shape(t[0]).with_offset(pose(t[1], "compound child pose")));
+            } else {
+                children.push_back(world_shape(item));
+            }
+        }
+        return Shape<double>::compound(std::move(children));
+    }
     throw py::type_error("shape: a World object is a Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, "
-                         "ConvexPolyhedron or MeshModel, got " +
+                         "ConvexPolyhedron, MeshModel or a list of them (a compound; items (shape, pose) place them), got " +
                          std::string(py::str(py::type::of(obj))));
 }
 
@@ -109,7 +121,8 @@ void init_world(py::module_& m) {
         .value("cylinder", ShapeKind::cylinder)
         .value("cone", ShapeKind::cone)
         .value("ellipsoid", ShapeKind::ellipsoid)
-        .value("triangle", ShapeKind::triangle);
+        .value("triangle", ShapeKind::triangle)
+        .value("compound", ShapeKind::compound);
     py::enum_<PairMethod>(m, "PairMethod")
         .value("convex_convex", PairMethod::convex_convex)
         .value("convex_mesh", PairMethod::convex_mesh)
@@ -151,6 +164,16 @@ void init_world(py::module_& m) {
         .def_property_readonly("point_b", [](const WorldContact<double>& c) { return to_array(c.point_b); })
         .def_readonly("gjk_iterations", &WorldContact<double>::gjk_iterations)
         .def_readonly("toi", &WorldContact<double>::toi)
+        .def_property_readonly(
+            "child_a", [](const WorldContact<double>& c) -> py::object {
+                return c.child_a == WorldContact<double>::no_child ? py::object(py::none()) : py::object(py::int_(c.child_a));
+            },
+            "Index of the touching child of a compound a, or None.")
+        .def_property_readonly(
+            "child_b", [](const WorldContact<double>& c) -> py::object {
+                return c.child_b == WorldContact<double>::no_child ? py::object(py::none()) : py::object(py::int_(c.child_b));
+            },
+            "Index of the touching child of a compound b, or None.")
         .def("__repr__", [](const WorldContact<double>& c) {
             return "<cdkit.WorldContact " + std::to_string(c.a) + "-" + std::to_string(c.b) + " depth=" + std::to_string(c.depth) +
                    " toi=" + std::to_string(c.toi) + ">";
@@ -192,8 +215,8 @@ void init_world(py::module_& m) {
                 return w.add(std::move(s), p);
             },
             py::arg("shape"), py::arg("pose") = py::none(),
-            "Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron or "
-            "MeshModel) at `pose`; returns its id. Raises "
+            "Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron, "
+            "MeshModel, or a list of convex shapes or (shape, pose) pairs: a compound) at `pose`; returns its id. Raises "
             "cdkit.Error for a pose that is not a rigid motion.")
         .def("remove", &World<double>::remove, py::arg("id"))
         .def(

@@ -79,3 +79,15 @@ def test_world_takes_every_convex_kind():
     contacts = world.step().contacts
     assert [len(c.points) for c in contacts] == [4, 4, 1, 3]
     assert all(c.depth == pytest.approx(0.01, abs=1e-9) for c in contacts)
+
+
+def test_world_compound_reports_its_children():
+    world = cdkit.World()
+    world.add(cdkit.Box([10.0, 10.0, 0.5]), translation(0.0, 0.0, -0.5))
+    l_shape = [cdkit.Box([1.0, 0.25, 0.25]), (cdkit.Box([0.25, 0.25, 0.75]), translation(0.75, 0.0, 1.01))]
+    l = world.add(l_shape, translation(0.0, 0.0, 0.24))
+    ball = world.add(cdkit.Sphere(0.3), translation(1.29, 0.0, 1.2))
+    contacts = world.step().contacts
+    assert [(c.a, c.b, c.child_a, c.child_b) for c in contacts] == [(0, l, None, 0), (l, ball, 1, None)]
+    with pytest.raises(cdkit.Error):
+        world.add([], None)

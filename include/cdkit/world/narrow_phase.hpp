@@ -9,6 +9,8 @@
 ///   convex – mesh   : collide(mesh, pose, shape, pose) of mesh_convex/collide.hpp: descent of the mesh's OBB tree
 ///                     against the shape's bound in the mesh frame, then the exact sphere / capsule test or GJK
 ///                     of the shape against each triangle of the overlapping leaves.
+///   compound – any  : each child near the other shape (the compound's tree) against it, one contact per touching
+///                     child pair (collide_shapes_all; collide_shapes keeps the deepest).
 ///
 /// Contacts that involve a mesh are surface contacts (a triangle touches or crosses the other shape): a
 /// convex shape lying wholly inside a closed mesh is *not* reported, and no penetration depth is given
@@ -34,6 +36,8 @@
 #include "cdkit/world/shape.hpp"
 
 #include <optional>
+#include <tuple>
+#include <vector>
 
 namespace cdkit {
 
@@ -65,8 +69,24 @@ template <class S = double> struct WorldContact {
     /// for a pair with a CCD object (World::set_ccd), the fraction of the motion since the previous step at which
     /// they first touch — depth 0 then, and normal and points those of the touching poses.
     S toi = S(1);
+    /// For a compound object, which of its children touches (an index into its children); no_child otherwise.
+    static constexpr std::uint32_t no_child = std::uint32_t(-1);
+    std::uint32_t child_a = no_child, child_b = no_child;
     friend bool operator<(const WorldContact& x, const WorldContact& y) noexcept {
-        return ObjectPair{x.a, x.b} < ObjectPair{y.a, y.b};
+        return std::tie(x.a, x.b, x.child_a, x.child_b) < std::tie(y.a, y.b, y.child_a, y.child_b);
+    }
+};
+
+/// What World keeps for a pair between steps: its ManifoldCache and, for a compound object, one per touching child
+/// pair (found by a linear search: a compound touches through a few children at a time).
+template <class S = double> struct PairCache {
+    ManifoldCache<S> manifold;
+    std::vector<std::pair<std::uint64_t, ManifoldCache<S>>> children;
+    [[nodiscard]] ManifoldCache<S>& child(std::uint32_t child_a, std::uint32_t child_b) {
+        const std::uint64_t key = (std::uint64_t(child_a) << 32) | child_b;
+        for (auto& [k, c] : children)
+            if (k == key) return c;
+        return children.emplace_back(key, ManifoldCache<S>{}).second;
     }
 };
 
@@ -108,6 +128,11 @@ template <class S> WorldContact<S> with_witness(WorldContact<S> w) {
     return w;
 }
 
+template <class S>
+std::optional<WorldContact<S>> deepest_child_contact(ObjectId id_a, const Shape<S>& a, const Transform<S>& pose_a,
+                                                     ObjectId id_b, const Shape<S>& b, const Transform<S>& pose_b,
+                                                     const ManifoldRequest& request);
+
 }  // namespace detail
 
 /// Narrow phase for one pair: shape `a` of object `id_a` at `pose_a` against `b`. Returns a contact when the
@@ -121,6 +146,7 @@ template <class S>
                                                             ManifoldCache<S>* cache = nullptr,
                                                             const ManifoldRequest& request = {}) {
     if (id_b < id_a) return collide_shapes(id_b, b, pose_b, id_a, a, pose_a, cache, request);
+    if (a.is_compound() || b.is_compound()) return detail::deepest_child_contact(id_a, a, pose_a, id_b, b, pose_b, request);
     const Transform<S> pa = a.placed(pose_a), pb = b.placed(pose_b);
     const S margin = S(request.margin);
     std::optional<WorldContact<S>> out;
@@ -183,6 +209,72 @@ template <class S>
     return out;
 }
 
+/// Narrow phase for one pair, every contact: as collide_shapes, and for a compound object one contact per touching
+/// child pair (the children near the other shape found by the compound's tree, under the other's box carried into
+/// the compound's frame and grown by the margin), each with `child_a` / `child_b` set and its own cache in `cache`.
+/// Appends to `out`. Const on the shapes and thread-safe; `cache` (optional, one per pair) is the caller's.
+template <class S>
+void collide_shapes_all(ObjectId id_a, const Shape<S>& a, const Transform<S>& pose_a, ObjectId id_b, const Shape<S>& b,
+                        const Transform<S>& pose_b, PairCache<S>* cache, const ManifoldRequest& request,
+                        std::vector<WorldContact<S>>& out) {
+    if (id_b < id_a) return collide_shapes_all(id_b, b, pose_b, id_a, a, pose_a, cache, request, out);
+    if (!a.is_compound() && !b.is_compound()) {
+        if (auto c = collide_shapes(id_a, a, pose_a, id_b, b, pose_b, cache ? &cache->manifold : nullptr, request))
+            out.push_back(*c);
+        return;
+    }
+    constexpr std::uint32_t none = WorldContact<S>::no_child;
+    const S margin = S(request.margin);
+    // The frames the children's offsets hang from.
+    const Transform<S> fa = a.is_compound() ? a.placed(pose_a) : pose_a, fb = b.is_compound() ? b.placed(pose_b) : pose_b;
+    const auto near = [&](const Shape<S>& compound, const Transform<S>& frame, const Shape<S>& other,
+                          const Transform<S>& other_pose, auto&& f) {
+        const BroadBox<S> box = other.world_box(frame.inverse() * other_pose);
+        compound.compound_shape().for_each_child_overlapping(
+            Aabb<S>::from_min_max(Vec3<S>(box.lo.array() - margin), Vec3<S>(box.hi.array() + margin)), f);
+    };
+    const auto test = [&](const Shape<S>& x, std::uint32_t cx, const Transform<S>& px, const Shape<S>& y, std::uint32_t cy,
+                          const Transform<S>& py) {
+        ManifoldCache<S>* c = cache ? &cache->child(cx, cy) : nullptr;
+        if (auto w = collide_shapes(id_a, x, px, id_b, y, py, c, request)) {
+            w->child_a = cx;
+            w->child_b = cy;
+            out.push_back(*w);
+        }
+    };
+    if (!b.is_compound()) {
+        const auto& kids = a.compound_shape().children();
+        near(a, fa, b, pose_b, [&](std::uint32_t i) { test(kids[i], i, fa, b, none, pose_b); });
+    } else if (!a.is_compound()) {
+        const auto& kids = b.compound_shape().children();
+        near(b, fb, a, pose_a, [&](std::uint32_t j) { test(a, none, pose_a, kids[j], j, fb); });
+    } else {
+        const auto& ka = a.compound_shape().children();
+        const auto& kb = b.compound_shape().children();
+        near(a, fa, b, fb, [&](std::uint32_t i) {
+            near(b, fb, ka[i], fa, [&](std::uint32_t j) { test(ka[i], i, fa, kb[j], j, fb); });
+        });
+    }
+}
+
+namespace detail {
+
+/// collide_shapes for a compound: the deepest of its child contacts (a colliding one before a speculative one).
+template <class S>
+std::optional<WorldContact<S>> deepest_child_contact(ObjectId id_a, const Shape<S>& a, const Transform<S>& pose_a,
+                                                     ObjectId id_b, const Shape<S>& b, const Transform<S>& pose_b,
+                                                     const ManifoldRequest& request) {
+    std::vector<WorldContact<S>> all;
+    collide_shapes_all(id_a, a, pose_a, id_b, b, pose_b, static_cast<PairCache<S>*>(nullptr), request, all);
+    std::optional<WorldContact<S>> best;
+    for (const WorldContact<S>& c : all)
+        if (!best || std::tuple(c.colliding, c.depth, -c.distance) > std::tuple(best->colliding, best->depth, -best->distance))
+            best = c;
+    return best;
+}
+
+}  // namespace detail
+
 /// The first contact of two objects while each moves from its pose at `start_*` to the one at `end_*` (constant
 /// linear and angular velocity): convex pairs by conservative advancement (convex_toi), a convex shape and a mesh
 /// by mesh_convex_toi, two meshes by mesh_ccd when neither turns (their vertices then move on lines, which
@@ -196,6 +288,29 @@ template <class S>
                                                                        GjkCache<S>* cache = nullptr) {
     static_assert(std::is_same_v<S, double>, "continuous collision runs in double");
     if (id_b < id_a) return continuous_collide_shapes(id_b, b, start_b, end_b, id_a, a, start_a, end_a, cache);
+    if (a.is_compound() || b.is_compound()) {  // the earliest contact over the child pairs (every pair: CCD is rare)
+        std::optional<WorldContact<S>> first;
+        const auto consider = [&](std::optional<WorldContact<S>> c, std::uint32_t ca, std::uint32_t cb) {
+            if (!c || (first && first->toi <= c->toi)) return;
+            c->child_a = ca;
+            c->child_b = cb;
+            first = c;
+        };
+        constexpr std::uint32_t none = WorldContact<S>::no_child;
+        const std::uint32_t na = a.is_compound() ? std::uint32_t(a.compound_shape().children().size()) : 1;
+        const std::uint32_t nb = b.is_compound() ? std::uint32_t(b.compound_shape().children().size()) : 1;
+        for (std::uint32_t i = 0; i < na; ++i)
+            for (std::uint32_t j = 0; j < nb; ++j) {
+                const Shape<S>& x = a.is_compound() ? a.compound_shape().children()[i] : a;
+                const Shape<S>& y = b.is_compound() ? b.compound_shape().children()[j] : b;
+                consider(continuous_collide_shapes(id_a, x, a.is_compound() ? a.placed(start_a) : start_a,
+                                                   a.is_compound() ? a.placed(end_a) : end_a, id_b, y,
+                                                   b.is_compound() ? b.placed(start_b) : start_b,
+                                                   b.is_compound() ? b.placed(end_b) : end_b, cache),
+                         a.is_compound() ? i : none, b.is_compound() ? j : none);
+            }
+        return first;
+    }
     const Transform<S> sa = a.placed(start_a), ea = a.placed(end_a), sb = b.placed(start_b), eb = b.placed(end_b);
     if (a.is_convex() && b.is_convex()) {
         return a.visit_convex([&](const auto& ca) {

@@ -13,14 +13,16 @@
 #include "cdkit/narrowphase/convex_polyhedron.hpp"
 #include "cdkit/narrowphase/convex_shapes.hpp"
 
+#include <algorithm>
 #include <memory>
+#include <string>
 #include <variant>
 
 namespace cdkit {
 
 /// Which representation a Shape holds.
 /// (The order is the one of Shape's variant; later kinds were added at the end.)
-enum class ShapeKind { sphere, box, capsule, convex_hull, mesh, cylinder, cone, ellipsoid, triangle };
+enum class ShapeKind { sphere, box, capsule, convex_hull, mesh, cylinder, cone, ellipsoid, triangle, compound };
 
 /// Name of a kind, for messages and reports.
 [[nodiscard]] inline const char* to_string(ShapeKind k) noexcept {
@@ -34,9 +36,12 @@ enum class ShapeKind { sphere, box, capsule, convex_hull, mesh, cylinder, cone, 
         case ShapeKind::cone: return "cone";
         case ShapeKind::ellipsoid: return "ellipsoid";
         case ShapeKind::triangle: return "triangle";
+        case ShapeKind::compound: return "compound";
     }
     return "?";
 }
+
+template <class S> class CompoundShape;
 
 /// The BVH type World uses for meshes (OBB trees: tight for rigid meshes, see docs/bvh.md).
 template <class S> using WorldMeshModel = MeshModel<Obb<S>>;
@@ -47,6 +52,7 @@ public:
     using Scalar = S;
     using Hull = std::shared_ptr<const ConvexPolyhedron<S>>;
     using Mesh = std::shared_ptr<const WorldMeshModel<S>>;
+    using Compound = std::shared_ptr<const CompoundShape<S>>;
 
     /// Ball of radius r ≥ 0 centred at the origin (throws cdkit::Error for a negative or non-finite r).
     [[nodiscard]] static Shape sphere(S radius) { return Shape(Sphere<S>(radius)); }
@@ -83,6 +89,12 @@ public:
         return mesh(std::make_shared<const WorldMeshModel<S>>(std::move(m)));
     }
 
+    /// Several convex shapes moving as one rigid object (the usual model of a concave object: a convex
+    /// decomposition), each placed in the object's frame by its own offset (`with_offset`). Throws cdkit::Error for
+    /// no children, a mesh child or a compound child. A small tree over the children's boxes finds the ones near
+    /// the other shape; World reports one contact per touching child pair (WorldContact::child_a / child_b).
+    [[nodiscard]] static Shape compound(std::vector<Shape> children);
+
     /// The same shape placed by a fixed rigid `offset` in the object's frame (object pose · offset places
     /// it in the world). Throws cdkit::Error when the offset is not a rigid motion.
     [[nodiscard]] Shape with_offset(const Transform<S>& offset) const {
@@ -94,7 +106,8 @@ public:
     }
 
     [[nodiscard]] ShapeKind kind() const noexcept { return ShapeKind(value_.index()); }
-    [[nodiscard]] bool is_convex() const noexcept { return kind() != ShapeKind::mesh; }
+    [[nodiscard]] bool is_convex() const noexcept { return kind() != ShapeKind::mesh && kind() != ShapeKind::compound; }
+    [[nodiscard]] bool is_compound() const noexcept { return kind() == ShapeKind::compound; }
     [[nodiscard]] const Transform<S>& offset() const noexcept { return offset_; }
     [[nodiscard]] bool has_offset() const noexcept { return has_offset_; }
     /// The pose of the shape's own frame for an object at `pose`.
@@ -115,6 +128,8 @@ public:
     }
     /// The mesh model (precondition: kind() == ShapeKind::mesh).
     [[nodiscard]] const WorldMeshModel<S>& mesh_model() const noexcept { return *std::get<4>(value_); }
+    /// The compound's children and tree (precondition: kind() == ShapeKind::compound).
+    [[nodiscard]] const CompoundShape<S>& compound_shape() const noexcept { return *std::get<9>(value_); }
 
     /// Local box (centre, half extents) of the shape in its own frame.
     [[nodiscard]] const Aabb<S>& local_bounds() const noexcept { return local_; }
@@ -128,7 +143,7 @@ public:
 
 private:
     using Value = std::variant<Sphere<S>, Box<S>, Capsule<S>, Hull, Mesh, Cylinder<S>, Cone<S>, Ellipsoid<S>,
-                               ConvexTriangle<S>>;
+                               ConvexTriangle<S>, Compound>;
     explicit Shape(Value v) : value_(std::move(v)) { local_ = compute_local(); }
 
     Aabb<S> compute_local() const {
@@ -164,6 +179,7 @@ private:
                 const auto& t = std::get<8>(value_);
                 return bounds_of({t.a, t.b, t.c});
             }
+            case ShapeKind::compound: return std::get<9>(value_)->bounds();
             case ShapeKind::convex_hull: return bounds_of(std::get<3>(value_)->vertices());
             case ShapeKind::mesh: return bounds_of(std::get<4>(value_)->mesh().vertices);
         }
@@ -180,5 +196,88 @@ private:
     Transform<S> offset_{};
     bool has_offset_ = false;
 };
+
+/// The children of a compound Shape and a small bounding-box tree over them (median splits of the children's boxes,
+/// at most two children per leaf), all in the compound's frame. Immutable; const members are thread-safe.
+template <class S> class CompoundShape {
+public:
+    explicit CompoundShape(std::vector<Shape<S>> children) : children_(std::move(children)) {
+        if (children_.empty()) throw Error("<world>", "compound shape", "no children");
+        boxes_.reserve(children_.size());
+        for (std::size_t i = 0; i < children_.size(); ++i) {
+            if (!children_[i].is_convex())
+                throw Error("<world>", "compound shape child " + std::to_string(i),
+                            std::string("a ") + to_string(children_[i].kind()) + " (children must be convex)");
+            const BroadBox<S> b = children_[i].world_box(Transform<S>{});
+            boxes_.push_back(Aabb<S>::from_min_max(b.lo, b.hi));
+        }
+        order_.resize(children_.size());
+        for (std::uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
+        build(0, std::uint32_t(order_.size()));
+        bounds_ = nodes_.front().box;
+    }
+    [[nodiscard]] const std::vector<Shape<S>>& children() const noexcept { return children_; }
+    /// The box of all children (compound frame).
+    [[nodiscard]] const Aabb<S>& bounds() const noexcept { return bounds_; }
+    /// Calls f(i) for every child whose box overlaps `query` (compound frame).
+    template <class F> void for_each_child_overlapping(const Aabb<S>& query, F&& f) const {
+        std::uint32_t stack[64];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& n = nodes_[stack[--top]];
+            if (!overlaps(n.box, query)) continue;
+            if (n.count > 0) {
+                for (std::uint32_t k = n.first; k < n.first + n.count; ++k)
+                    if (overlaps(boxes_[order_[k]], query)) f(order_[k]);
+            } else {
+                stack[top++] = n.left;
+                stack[top++] = n.right;
+            }
+        }
+    }
+
+private:
+    struct Node {
+        Aabb<S> box;
+        std::uint32_t first = 0, count = 0;  ///< a leaf: the children order_[first, first + count)
+        std::uint32_t left = 0, right = 0;   ///< an inner node (count 0): its two nodes
+    };
+    static bool overlaps(const Aabb<S>& x, const Aabb<S>& y) noexcept {
+        return ((x.center - y.center).cwiseAbs().array() <= (x.half + y.half).array()).all();
+    }
+    /// Builds the node over order_[begin, end) and returns its index (the root is node 0). Depth ≤ log2(n) + 1.
+    std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
+        Vec3<S> lo = boxes_[order_[begin]].center - boxes_[order_[begin]].half, hi = lo;
+        for (std::uint32_t k = begin; k < end; ++k) {
+            const Aabb<S>& b = boxes_[order_[k]];
+            lo = lo.cwiseMin(Vec3<S>(b.center - b.half));
+            hi = hi.cwiseMax(Vec3<S>(b.center + b.half));
+        }
+        const std::uint32_t index = std::uint32_t(nodes_.size());
+        nodes_.push_back({Aabb<S>::from_min_max(lo, hi), begin, end - begin, 0, 0});
+        if (end - begin <= 2) return index;
+        int axis = 0;
+        (hi - lo).maxCoeff(&axis);
+        const std::uint32_t mid = begin + (end - begin) / 2;
+        std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                         [&](std::uint32_t x, std::uint32_t y) { return boxes_[x].center[axis] < boxes_[y].center[axis]; });
+        const std::uint32_t left = build(begin, mid), right = build(mid, end);
+        nodes_[index].count = 0;
+        nodes_[index].left = left;
+        nodes_[index].right = right;
+        return index;
+    }
+
+    std::vector<Shape<S>> children_;
+    std::vector<Aabb<S>> boxes_;
+    std::vector<std::uint32_t> order_;
+    std::vector<Node> nodes_;
+    Aabb<S> bounds_;
+};
+
+template <class S> Shape<S> Shape<S>::compound(std::vector<Shape<S>> children) {
+    return Shape(std::make_shared<const CompoundShape<S>>(std::move(children)));
+}
 
 }  // namespace cdkit

@@ -153,7 +153,7 @@ template <class S> [[nodiscard]] Shape<S> make_shape(const TriangleMesh<S>& mesh
         case ShapeKind::box: return Shape<S>::box(s.half_extents).with_offset(s.offset);
         case ShapeKind::capsule: break;  // never suggested
         case ShapeKind::convex_hull: return Shape<S>::convex_hull(mesh.vertices);
-        case ShapeKind::mesh: break;
+        default: break;  // mesh (and kinds never suggested)
     }
     return Shape<S>::mesh(mesh);
 }

@@ -59,7 +59,7 @@ struct WorldStepStats {
     bool ran_parallel = false;
 };
 
-/// Result of World::step(): contacts sorted by (a, b), and statistics.
+/// Result of World::step(): contacts sorted by (a, b) (and by child for compounds), and statistics.
 template <class S = double> struct WorldStepResult {
     std::vector<WorldContact<S>> contacts;
     WorldStepStats stats;
@@ -83,7 +83,7 @@ public:
             case BroadPhaseKind::brute_force: bp_.template emplace<BruteForceBroadPhase<S>>(); break;
             case BroadPhaseKind::sorted_cell_grid: bp_.template emplace<SortedCellGrid<S>>(); break;
         }
-        interest_.on_begin = [this](ObjectPair p, ManifoldCache<S>& c) { candidates_.push_back({p, &c}); };
+        interest_.on_begin = [this](ObjectPair p, PairCache<S>& c) { candidates_.push_back({p, &c}); };
         interest_.on_persist = interest_.on_begin;
     }
     World(const World&) = delete;  // the interest-matrix callbacks point at this World
@@ -160,19 +160,22 @@ public:
         interest_.finish_frame();  // erases only pairs not reported this frame: the cache pointers stay valid
         out.stats.tested_pairs = candidates_.size();
 
-        results_.assign(candidates_.size(), std::nullopt);
+        results_.resize(candidates_.size());
         auto run = [&](std::size_t i) {
             const ObjectPair p = candidates_[i].pair;
             const Object& a = objects_[p.a];
             const Object& b = objects_[p.b];
+            std::vector<WorldContact<S>>& out = results_[i];
+            out.clear();
             if constexpr (std::is_same_v<S, double>) {
                 if (a.ccd || b.ccd) {
-                    results_[i] = continuous_collide_shapes(p.a, *a.shape, a.step_start, a.pose, p.b, *b.shape,
-                                                            b.step_start, b.pose, &candidates_[i].cache->gjk);
+                    if (auto c = continuous_collide_shapes(p.a, *a.shape, a.step_start, a.pose, p.b, *b.shape, b.step_start,
+                                                           b.pose, &candidates_[i].cache->manifold.gjk))
+                        out.push_back(*c);
                     return;
                 }
             }
-            results_[i] = collide_shapes(p.a, *a.shape, a.pose, p.b, *b.shape, b.pose, candidates_[i].cache, request_);
+            collide_shapes_all(p.a, *a.shape, a.pose, p.b, *b.shape, b.pose, candidates_[i].cache, request_, out);
         };
 #if defined(CDKIT_HAS_TBB)
         if (options_.parallel && candidates_.size() >= options_.parallel_min_pairs) {
@@ -184,10 +187,10 @@ public:
 #else
         for (std::size_t i = 0; i < candidates_.size(); ++i) run(i);
 #endif
-        for (auto& r : results_)
-            if (r) {
-                out.stats.gjk_iterations += std::size_t(r->gjk_iterations);
-                out.contacts.push_back(*r);
+        for (std::size_t i = 0; i < candidates_.size(); ++i)
+            for (const WorldContact<S>& c : results_[i]) {
+                out.stats.gjk_iterations += std::size_t(c.gjk_iterations);
+                out.contacts.push_back(c);
             }
         std::sort(out.contacts.begin(), out.contacts.end());
         out.stats.contacts = out.contacts.size();
@@ -243,7 +246,7 @@ private:
     }
     struct Candidate {
         ObjectPair pair;
-        ManifoldCache<S>* cache;
+        PairCache<S>* cache;
     };
     static void check_pose(const Transform<S>& pose, const char* op) {
         if (!pose_is_usable(pose))
@@ -258,10 +261,10 @@ private:
     WorldOptions options_;
     ManifoldRequest request_;
     std::variant<DynamicAabbTree<S>, SweepAndPrune<S>, UniformGrid<S>, BruteForceBroadPhase<S>, SortedCellGrid<S>> bp_;
-    InterestMatrix<ManifoldCache<S>> interest_;
+    InterestMatrix<PairCache<S>> interest_;
     std::vector<Object> objects_;
     std::vector<Candidate> candidates_;
-    std::vector<std::optional<WorldContact<S>>> results_;
+    std::vector<std::vector<WorldContact<S>>> results_;  ///< per candidate pair; kept between steps (capacity)
 };
 
 }  // namespace cdkit
