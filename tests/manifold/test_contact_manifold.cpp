@@ -2,9 +2,10 @@
 // edge, the rim of a cylinder's base), each on both surfaces with its own depth, ids that persist, speculative points
 // within a margin, bad input, threads. Surfaces are checked by each shape's own geometry (plane distances, radii),
 // not by the GJK that produced the normal. The face-on-face points against the exact intersection polygon: in
-// test_manifold_faces_cgal.cpp.
+// test_manifold_faces_cgal.cpp; the World's use of manifolds: tests/world/test_world_manifold.cpp.
 #include "cdkit/manifold/contact_manifold.hpp"
-#include "cdkit/world/world.hpp"
+#include "cdkit/narrowphase/convex_polyhedron.hpp"
+#include "cdkit/narrowphase/convex_shapes.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -237,7 +238,6 @@ TEST_CASE("manifold bad input: a negative or NaN margin, a wide feature angle, a
     const ContactManifold<double> m = contact_manifold(ground, ground_pose, box, bad);
     CHECK(m.status == QueryStatus::invalid_pose);
     CHECK(m.count == 0);
-    CHECK_THROWS_AS(World<double>(WorldOptions{.contact_margin = -0.1}), Error);
 }
 
 TEST_CASE("random convex pairs: every manifold point lies on both shapes' surfaces", "[manifold]") {
@@ -280,35 +280,6 @@ TEST_CASE("random convex pairs: every manifold point lies on both shapes' surfac
     CHECK(multi > 50);
 }
 
-TEST_CASE("World: manifolds by default, one point when off, speculative contacts within the margin", "[manifold][world]") {
-    for (bool manifolds : {true, false}) {
-        World<double> world(WorldOptions{.manifolds = manifolds});
-        world.add(Shape<double>::box(V(5, 5, 0.5)), ground_pose);
-        world.add(Shape<double>::box(V(0.5, 0.5, 0.5)), rot(0.3, V::UnitZ(), V(0, 0, 0.49)));
-        const WorldStepResult<double> r = world.step();
-        REQUIRE(r.contacts.size() == 1);
-        CHECK(r.contacts[0].point_count == (manifolds ? 4 : 1));
-        CHECK(r.contacts[0].depth == Approx(0.01).margin(1e-9));
-    }
-    World<double> world(WorldOptions{.contact_margin = 0.05});
-    world.add(Shape<double>::box(V(5, 5, 0.5)), ground_pose);
-    const ObjectId b = world.add(Shape<double>::box(V(0.5, 0.5, 0.5)), T::translation(V(0, 0, 0.53)));
-    const ObjectId s = world.add(Shape<double>::sphere(0.2), T::translation(V(3, 0, 0.3)));
-    WorldStepResult<double> r = world.step();
-    REQUIRE(r.contacts.size() == 1);  // the box 3 cm up; the sphere 10 cm up is beyond the margin
-    CHECK_FALSE(r.contacts[0].colliding);
-    CHECK(r.contacts[0].distance == Approx(0.03).margin(1e-9));
-    CHECK(r.contacts[0].point_count == 4);
-    world.set_pose(s, T::translation(V(3, 0, 0.22)));
-    world.set_pose(b, T::translation(V(0, 0, 0.49)));
-    r = world.step();
-    REQUIRE(r.contacts.size() == 2);
-    CHECK(r.contacts[0].colliding);
-    CHECK_FALSE(r.contacts[1].colliding);
-    CHECK(r.contacts[1].point_count == 1);
-    CHECK(r.contacts[1].points[0].depth == Approx(-0.02).margin(1e-9));
-}
-
 TEST_CASE("contact_manifold is const and thread-safe", "[manifold][threads]") {
     const Box<double> box(V(0.5, 0.4, 0.3));
     std::vector<T> poses;
@@ -330,38 +301,6 @@ TEST_CASE("contact_manifold is const and thread-safe", "[manifold][threads]") {
         });
     for (auto& th : threads) th.join();
     CHECK(mismatches == std::vector<int>(4, 0));
-}
-
-TEST_CASE("World: cylinders, cones, ellipsoids and triangles resting on the ground, and against each other",
-          "[manifold][world]") {
-    World<double> world;
-    world.add(Shape<double>::box(V(20, 20, 0.5)), ground_pose);
-    const ObjectId cyl = world.add(Shape<double>::cylinder(0.4, 0.5), T::translation(V(0, 0, 0.49)));
-    const ObjectId cone = world.add(Shape<double>::cone(0.4, 0.5), T::translation(V(3, 0, 0.49)));
-    const ObjectId ell = world.add(Shape<double>::ellipsoid(V(0.3, 0.4, 0.5)), T::translation(V(6, 0, 0.49)));
-    const ObjectId tri = world.add(Shape<double>::triangle(V(0, 0, 0), V(1, 0, 0), V(0, 1, 0)), T::translation(V(9, 0, -0.01)));
-    CHECK(world.shape(cyl).kind() == ShapeKind::cylinder);
-    CHECK(std::string(to_string(world.shape(tri).kind())) == "triangle");
-    WorldStepResult<double> r = world.step();
-    REQUIRE(r.contacts.size() == 4);
-    const std::map<ObjectId, int> expected_points{{cyl, 4}, {cone, 4}, {ell, 1}, {tri, 3}};
-    for (const WorldContact<double>& c : r.contacts) {
-        INFO("object " << c.b << " (" << to_string(world.shape(c.b).kind()) << ")");
-        CHECK(c.a == 0);
-        CHECK(c.point_count == expected_points.at(c.b));
-        CHECK(c.depth == Approx(0.01).margin(1e-9));
-        CHECK((c.normal - V::UnitZ()).norm() < 1e-6);
-    }
-    // A cone lying on a cylinder's side and an ellipsoid touching the cone: pairs among the new kinds.
-    world.set_pose(cone, T::translation(V(0, 0, 1.49)));  // cone's base on the cylinder's top cap
-    world.set_pose(ell, T::translation(V(0.69, 0, 0.6)));  // the ellipsoid (x radius 0.3) into the cylinder (r 0.4)
-    r = world.step();
-    std::set<std::pair<ObjectId, ObjectId>> pairs;
-    for (const WorldContact<double>& c : r.contacts) pairs.insert({c.a, c.b});
-    CHECK(pairs.count({cyl, cone}) == 1);
-    CHECK(pairs.count({cyl, ell}) == 1);
-    for (const WorldContact<double>& c : r.contacts)
-        if (c.a == cyl && c.b == cone) CHECK(c.point_count == 4);  // disc on disc
 }
 
 TEST_CASE("two boxes by the axis test agree with the same boxes as hulls through GJK and EPA", "[manifold]") {
