@@ -229,9 +229,10 @@ void collide_shapes_all(ObjectId id_a, const Shape<S>& a, const Transform<S>& po
     const Transform<S> fa = a.is_compound() ? a.placed(pose_a) : pose_a, fb = b.is_compound() ? b.placed(pose_b) : pose_b;
     const auto near = [&](const Shape<S>& compound, const Transform<S>& frame, const Shape<S>& other,
                           const Transform<S>& other_pose, auto&& f) {
-        const BroadBox<S> box = other.world_box(frame.inverse() * other_pose);
-        compound.compound_shape().for_each_child_overlapping(
-            Aabb<S>::from_min_max(Vec3<S>(box.lo.array() - margin), Vec3<S>(box.hi.array() + margin)), f);
+        BroadBox<S> box = other.world_box(frame.inverse() * other_pose);
+        box.lo.array() -= margin;
+        box.hi.array() += margin;
+        compound.compound_shape().for_each_child_overlapping(box, f);
     };
     const auto test = [&](const Shape<S>& x, std::uint32_t cx, const Transform<S>& px, const Shape<S>& y, std::uint32_t cy,
                           const Transform<S>& py) {

@@ -208,28 +208,27 @@ public:
             if (!children_[i].is_convex())
                 throw Error("<world>", "compound shape child " + std::to_string(i),
                             std::string("a ") + to_string(children_[i].kind()) + " (children must be convex)");
-            const BroadBox<S> b = children_[i].world_box(Transform<S>{});
-            boxes_.push_back(Aabb<S>::from_min_max(b.lo, b.hi));
+            boxes_.push_back(children_[i].world_box(Transform<S>{}));
         }
         order_.resize(children_.size());
         for (std::uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
         build(0, std::uint32_t(order_.size()));
-        bounds_ = nodes_.front().box;
+        bounds_ = Aabb<S>::from_min_max(nodes_.front().box.lo, nodes_.front().box.hi);
     }
     [[nodiscard]] const std::vector<Shape<S>>& children() const noexcept { return children_; }
     /// The box of all children (compound frame).
     [[nodiscard]] const Aabb<S>& bounds() const noexcept { return bounds_; }
-    /// Calls f(i) for every child whose box overlaps `query` (compound frame).
-    template <class F> void for_each_child_overlapping(const Aabb<S>& query, F&& f) const {
+    /// Calls f(i) for every child whose box overlaps `query` (compound frame; touching counts).
+    template <class F> void for_each_child_overlapping(const BroadBox<S>& query, F&& f) const {
         std::uint32_t stack[64];
         int top = 0;
         stack[top++] = 0;
         while (top > 0) {
             const Node& n = nodes_[stack[--top]];
-            if (!overlaps(n.box, query)) continue;
+            if (!overlap(n.box, query)) continue;
             if (n.count > 0) {
                 for (std::uint32_t k = n.first; k < n.first + n.count; ++k)
-                    if (overlaps(boxes_[order_[k]], query)) f(order_[k]);
+                    if (overlap(boxes_[order_[k]], query)) f(order_[k]);
             } else {
                 stack[top++] = n.left;
                 stack[top++] = n.right;
@@ -239,29 +238,26 @@ public:
 
 private:
     struct Node {
-        Aabb<S> box;
+        BroadBox<S> box;
         std::uint32_t first = 0, count = 0;  ///< a leaf: the children order_[first, first + count)
         std::uint32_t left = 0, right = 0;   ///< an inner node (count 0): its two nodes
     };
-    static bool overlaps(const Aabb<S>& x, const Aabb<S>& y) noexcept {
-        return ((x.center - y.center).cwiseAbs().array() <= (x.half + y.half).array()).all();
-    }
     /// Builds the node over order_[begin, end) and returns its index (the root is node 0). Depth ≤ log2(n) + 1.
     std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
-        Vec3<S> lo = boxes_[order_[begin]].center - boxes_[order_[begin]].half, hi = lo;
+        BroadBox<S> box = boxes_[order_[begin]];
         for (std::uint32_t k = begin; k < end; ++k) {
-            const Aabb<S>& b = boxes_[order_[k]];
-            lo = lo.cwiseMin(Vec3<S>(b.center - b.half));
-            hi = hi.cwiseMax(Vec3<S>(b.center + b.half));
+            box.lo = box.lo.cwiseMin(boxes_[order_[k]].lo);
+            box.hi = box.hi.cwiseMax(boxes_[order_[k]].hi);
         }
         const std::uint32_t index = std::uint32_t(nodes_.size());
-        nodes_.push_back({Aabb<S>::from_min_max(lo, hi), begin, end - begin, 0, 0});
+        nodes_.push_back({box, begin, end - begin, 0, 0});
         if (end - begin <= 2) return index;
         int axis = 0;
-        (hi - lo).maxCoeff(&axis);
+        (box.hi - box.lo).maxCoeff(&axis);
         const std::uint32_t mid = begin + (end - begin) / 2;
+        const auto centre = [&](std::uint32_t c) { return boxes_[c].lo[axis] + boxes_[c].hi[axis]; };
         std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                         [&](std::uint32_t x, std::uint32_t y) { return boxes_[x].center[axis] < boxes_[y].center[axis]; });
+                         [&](std::uint32_t x, std::uint32_t y) { return centre(x) < centre(y); });
         const std::uint32_t left = build(begin, mid), right = build(mid, end);
         nodes_[index].count = 0;
         nodes_[index].left = left;
@@ -270,7 +266,7 @@ private:
     }
 
     std::vector<Shape<S>> children_;
-    std::vector<Aabb<S>> boxes_;
+    std::vector<BroadBox<S>> boxes_;
     std::vector<std::uint32_t> order_;
     std::vector<Node> nodes_;
     Aabb<S> bounds_;

@@ -36,16 +36,16 @@ BoxBoxOutcome box_box_manifold(const Box<S>& a, const Transform<S>& pose_a, cons
     // Best (largest) separation over face axes and over edge axes; axes in A's frame.
     S face_sep = -std::numeric_limits<S>::infinity(), edge_sep = -std::numeric_limits<S>::infinity();
     Vec3<S> face_axis = Vec3<S>::UnitZ(), edge_axis = Vec3<S>::UnitZ();
-    int face_index = 0, edge_i = 0, edge_j = 0;
-    const auto face = [&](const Vec3<S>& axis, S ra, S rb, int index) {
+    int edge_i = 0, edge_j = 0;
+    const auto face = [&](const Vec3<S>& axis, S ra, S rb) {
         const S s = std::abs(t.dot(axis)) - ra - rb;
-        if (s > face_sep) face_sep = s, face_axis = axis, face_index = index;
+        if (s > face_sep) face_sep = s, face_axis = axis;
         return s <= S(0);
     };
     for (int i = 0; i < 3; ++i)
-        if (!face(Vec3<S>::Unit(i), ha[i], hb.dot(absR.row(i)), i)) return BoxBoxOutcome::separated;
+        if (!face(Vec3<S>::Unit(i), ha[i], hb.dot(absR.row(i)))) return BoxBoxOutcome::separated;
     for (int j = 0; j < 3; ++j)
-        if (!face(Vec3<S>(R.col(j)), ha.dot(absR.col(j)), hb[j], 3 + j)) return BoxBoxOutcome::separated;
+        if (!face(Vec3<S>(R.col(j)), ha.dot(absR.col(j)), hb[j])) return BoxBoxOutcome::separated;
     // Edge axes e_i × (R e_j); near-parallel edges give no axis (their face axes already cover them).
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
