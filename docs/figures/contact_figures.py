@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Draws the pictures of docs/contacts.md from cdkit's own answers (the Python module): a box lying turned on a
 smaller box, seen from above, with the two touching faces, the region where they overlap and the four points
-contact_manifold keeps; and a tilted box dipping into the ground, seen from the side, with its points and depths.
+contact_manifold keeps; a tilted box dipping into the ground, seen from the side, with its points and depths; and two
+crossing bunnies cut through the normal of their penetration depth.
 Usage: PYTHONPATH=build/python /usr/bin/python3 docs/figures/contact_figures.py [out_dir=docs/images]"""
 import math
 import sys
@@ -106,5 +107,66 @@ def main(out_dir):
     fig.savefig(f"{out_dir}/contact_manifold.png", dpi=110)
 
 
+def slice_mesh(v, f, origin, normal):
+    """Segments where the plane through `origin` with `normal` cuts the triangles (v: posed vertices)."""
+    d = (v - origin) @ normal
+    out = []
+    for tri in f:
+        pts = []
+        for i in range(3):
+            a, b = tri[i], tri[(i + 1) % 3]
+            if (d[a] < 0) != (d[b] < 0):
+                t = d[a] / (d[a] - d[b])
+                pts.append(v[a] + t * (v[b] - v[a]))
+        if len(pts) == 2:
+            out.append(pts)
+    return out
+
+
+def mesh_depth_figure(out_dir):
+    """Two bunnies crossing: the cut through the contact along the depth's normal, B where it is, and B moved by
+    depth x normal (its surface just clear of A's), with the pair that separates last."""
+    root = __file__.rsplit("/docs/", 1)[0]
+    v, f = cdkit.load_mesh(f"{root}/data/bunny.obj")
+    v = (v - (v.min(0) + v.max(0)) / 2) * (2 / (v.max(0) - v.min(0)).max())
+    model = cdkit.MeshModel(v, f)
+    rng = np.random.default_rng(4)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    R = q * np.sign(np.linalg.det(q))
+    u = np.array([1.0, 0.25, 0.1])
+    u /= np.linalg.norm(u)
+    pa = pose(np.eye(3), [0, 0, 0])
+    lo, hi = 0.0, 4.0
+    for _ in range(50):  # bisection to touching along u
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if cdkit.collide(model, pa, model, pose(R, mid * u)).colliding else (lo, mid)
+    pb = pose(R, (hi - 0.15) * u)
+    r = cdkit.penetration_depth(model, pa, model, pb, refine_steps=3)
+    n = np.asarray(r.normal)
+    side = np.cross(n, [0, 0, 1.0])
+    side /= np.linalg.norm(side)
+    cut_normal = np.cross(n, side)  # the cut contains n and `side`
+    origin = np.asarray(r.point_b)
+    vb = v @ R.T + pb[:3, 3]
+    to2d = lambda p: np.array([(p - origin) @ side, (p - origin) @ n])
+    fig, ax = plt.subplots(figsize=(6.4, 5.4))
+    for verts, style, label in ((v, dict(color="#3182bd"), "A"), (vb, dict(color="#e6550d"), "B (crossing A)"),
+                                (vb + r.depth * n, dict(color="#e6550d", ls="--", alpha=0.6), "B moved by depth·normal")):
+        for k, seg in enumerate(slice_mesh(verts, f, origin, cut_normal)):
+            p0, p1 = to2d(seg[0]), to2d(seg[1])
+            ax.plot([p0[0], p1[0]], [p0[1], p1[1]], lw=1.2, label=label if k == 0 else None, **style)
+    a2, b2 = to2d(np.asarray(r.point_a)), to2d(np.asarray(r.point_b))
+    ax.annotate("", xy=a2, xytext=b2, arrowprops=dict(arrowstyle="->", lw=1.8, color="k"))
+    ax.plot(*b2, "ko", ms=4)
+    ax.plot(*a2, "k^", ms=5)
+    ax.text(b2[0] + 0.03, (a2[1] + b2[1]) / 2, f"depth {r.depth:.3f}", fontsize=9)
+    ax.set_aspect("equal")
+    ax.set_title("Mesh penetration depth (cut through the normal)", fontsize=10)
+    ax.legend(loc="lower left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{out_dir}/mesh_depth.png", dpi=110)
+
+
 if __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else "docs/images")
+    mesh_depth_figure(sys.argv[1] if len(sys.argv) > 1 else "docs/images")

@@ -55,5 +55,7 @@
 #include "cdkit/ist/ist_query.hpp"
 #include "cdkit/ist/penalty_force.hpp"
 #include "cdkit/ist/serialize.hpp"
+#include "cdkit/mesh_depth/directional_depth.hpp"
+#include "cdkit/mesh_depth/penetration_depth.hpp"
 #include "cdkit/world/suggest_representation.hpp"
 #include "cdkit/world/world.hpp"

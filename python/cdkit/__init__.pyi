@@ -304,6 +304,20 @@ class DeformableCcdStats:
     @property
     def capped(self) -> int: ...
 
+class DepthDirection:
+    """Where a mesh depth's direction came from."""
+    none: ClassVar[DepthDirection]
+    given: ClassVar[DepthDirection]
+    ist_force: ClassVar[DepthDirection]
+    surface_normal: ClassVar[DepthDirection]
+    centre_line: ClassVar[DepthDirection]
+    refined: ClassVar[DepthDirection]
+    name: str
+    value: int
+    def __init__(self, value: int) -> None: ...
+    def __int__(self) -> int: ...
+    __members__: ClassVar[dict[str, DepthDirection]]
+
 class DistanceBatch:
     """Arrays of distance_many(): entry i is distance(a, poses_a[i], b, poses_b[i])."""
     @property
@@ -516,10 +530,11 @@ class ManifoldPoint:
 
 class ManifoldRequest:
     """What contact_manifold() keeps: margin, feature angle, single point."""
-    def __init__(self, margin: float = 0.0, feature_angle: float = 0.1, single_point: bool = False) -> None: ...
+    def __init__(self, margin: float = 0.0, feature_angle: float = 0.1, single_point: bool = False, mesh_depth: bool = True) -> None: ...
     margin: float
     feature_angle: float
     single_point: bool
+    mesh_depth: bool
 
 class MeshConvexContact:
     """One mesh triangle touching the shape, with a point of it in the shape (world)."""
@@ -600,6 +615,44 @@ class MeshConvexResult:
     @property
     def points(self) -> np.ndarray: ...
     def __bool__(self) -> bool: ...
+
+class MeshDepthResult:
+    """Result of penetration_depth(): the translation of b along `normal` (length `depth`) that undoes every crossing of the two surfaces; world frame."""
+    @property
+    def status(self) -> QueryStatus: ...
+    @property
+    def colliding(self) -> bool: ...
+    @property
+    def complete(self) -> bool: ...
+    @property
+    def depth(self) -> float: ...
+    @property
+    def normal(self) -> np.ndarray: ...
+    @property
+    def triangle_a(self) -> int: ...
+    @property
+    def triangle_b(self) -> int: ...
+    @property
+    def point_a(self) -> np.ndarray: ...
+    @property
+    def point_b(self) -> np.ndarray: ...
+    @property
+    def direction(self) -> DepthDirection: ...
+    @property
+    def volume(self) -> float: ...
+    @property
+    def force_direction(self) -> np.ndarray: ...
+    @property
+    def stats(self) -> MeshDepthStats: ...
+
+class MeshDepthStats:
+    """Work counters of one mesh depth query."""
+    @property
+    def traversal(self) -> TraversalStats: ...
+    @property
+    def directions(self) -> int: ...
+    @property
+    def passes(self) -> int: ...
 
 class MeshModel:
     """A triangle mesh with its bounding volume hierarchy (cdkit::MeshModel<BV>). Built once; queries never copy it. Two models meet in a query only when they use the same `bv`."""
@@ -960,8 +1013,9 @@ class WorldContact:
 
 class WorldOptions:
     """How a World runs: its broad phase and whether the narrow phase runs with TBB."""
-    def __init__(self, broad_phase: BroadPhaseKind = ..., parallel: bool = False, parallel_min_pairs: int = 32, manifolds: bool = True, contact_margin: float = 0.0) -> None: ...
+    def __init__(self, broad_phase: BroadPhaseKind = ..., parallel: bool = False, parallel_min_pairs: int = 32, manifolds: bool = True, contact_margin: float = 0.0, mesh_depth: bool = True) -> None: ...
     manifolds: bool
+    mesh_depth: bool
     contact_margin: float
     broad_phase: BroadPhaseKind
     parallel: bool
@@ -1072,6 +1126,9 @@ def penalty_wrench(volume: PenetrationVolumeResult, a: InnerSphereTree, pose_a: 
 
 def penetration(a: Shape, pose_a: Pose | None, b: Shape, pose_b: Pose | None, settings: EpaSettings | None = None) -> PenetrationResult:
     """Penetration depth, normal (moving b by depth*normal separates them) and deepest points (GJK + EPA)."""
+
+def penetration_depth(a: MeshModel, pose_a: Pose | None, b: MeshModel, pose_b: Pose | None, direction: ArrayLike = None, refine_steps: int = 0, max_passes: int = 1000, ist_a: Any = None, ist_b: Any = None) -> MeshDepthResult:
+    """Penetration depth and normal of two intersecting meshes: the translation of b along the normal that undoes every crossing of their surfaces. The normal is the intersection curve's (or, with both inner sphere trees, the shorter of that and the penalty force direction); `direction` fixes it; refine_steps > 0 searches the sphere of directions for a shorter one."""
 
 def penetration_volume(a: InnerSphereTree, pose_a: Pose | None, b: InnerSphereTree, pose_b: Pose | None, max_node_tests: int = 0, collect_pairs: bool = True) -> PenetrationVolumeResult:
     """Penetration volume of two inner sphere trees (0 node budget: exact over the spheres)."""

@@ -122,5 +122,6 @@ void init_ccd(py::module_& m);
 void init_mesh_convex(py::module_& m);
 void init_mesh_convex_ccd(py::module_& m);
 void init_manifold(py::module_& m);
+void init_mesh_depth(py::module_& m);
 
 }  // namespace cdkit::python

@@ -8,17 +8,20 @@ namespace cdkit::python {
 
 void init_manifold(py::module_& m) {
     py::class_<ManifoldRequest>(m, "ManifoldRequest", "What contact_manifold() keeps: margin, feature angle, single point.")
-        .def(py::init([](double margin, double feature_angle, bool single_point) {
+        .def(py::init([](double margin, double feature_angle, bool single_point, bool mesh_depth) {
                  ManifoldRequest r;
                  r.margin = margin;
                  r.feature_angle = feature_angle;
                  r.single_point = single_point;
+                 r.mesh_depth = mesh_depth;
                  return r;
              }),
-             py::arg("margin") = 0.0, py::arg("feature_angle") = 0.1, py::arg("single_point") = false)
+             py::arg("margin") = 0.0, py::arg("feature_angle") = 0.1, py::arg("single_point") = false,
+             py::arg("mesh_depth") = true)
         .def_readwrite("margin", &ManifoldRequest::margin)
         .def_readwrite("feature_angle", &ManifoldRequest::feature_angle)
-        .def_readwrite("single_point", &ManifoldRequest::single_point);
+        .def_readwrite("single_point", &ManifoldRequest::single_point)
+        .def_readwrite("mesh_depth", &ManifoldRequest::mesh_depth);
     py::class_<ManifoldPoint<double>>(m, "ManifoldPoint",
                                       "One contact point: on A's and on B's surface, its depth along the normal "
                                       "(negative: a speculative point), its feature id.")

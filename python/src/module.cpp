@@ -13,6 +13,7 @@ PYBIND11_MODULE(_cdkit, m) {
     init_manifold(m);  // before the World: WorldContact.points returns ManifoldPoints
     init_world(m);
     init_ist(m);
+    init_mesh_depth(m);
     init_ccd(m);
     init_mesh_convex(m);
     init_mesh_convex_ccd(m);

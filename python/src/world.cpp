@@ -129,18 +129,21 @@ void init_world(py::module_& m) {
         .value("mesh_mesh", PairMethod::mesh_mesh);
     py::class_<WorldOptions>(m, "WorldOptions", "How a World runs: its broad phase and whether the narrow phase runs with TBB.")
         .def(py::init([](BroadPhaseKind bp, bool parallel, std::size_t parallel_min_pairs, bool manifolds,
-                         double contact_margin) {
+                         double contact_margin, bool mesh_depth) {
                  WorldOptions o;
                  o.broad_phase = bp;
                  o.parallel = parallel;
                  o.parallel_min_pairs = parallel_min_pairs;
                  o.manifolds = manifolds;
                  o.contact_margin = contact_margin;
+                 o.mesh_depth = mesh_depth;
                  return o;
              }),
              py::arg("broad_phase") = BroadPhaseKind::dynamic_aabb_tree, py::arg("parallel") = false,
-             py::arg("parallel_min_pairs") = 32, py::arg("manifolds") = true, py::arg("contact_margin") = 0.0)
+             py::arg("parallel_min_pairs") = 32, py::arg("manifolds") = true, py::arg("contact_margin") = 0.0,
+             py::arg("mesh_depth") = true)
         .def_readwrite("manifolds", &WorldOptions::manifolds)
+        .def_readwrite("mesh_depth", &WorldOptions::mesh_depth)
         .def_readwrite("contact_margin", &WorldOptions::contact_margin)
         .def_readwrite("broad_phase", &WorldOptions::broad_phase)
         .def_readwrite("parallel", &WorldOptions::parallel)

@@ -1,5 +1,6 @@
 #pragma once
 // FCL's BVHModel of a cdkit mesh, for the FCL comparison tests (FCL headers: keep to few TUs).
+#include "cdkit/core/math.hpp"
 #include "cdkit/core/mesh.hpp"
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -8,6 +9,14 @@
 #include <vector>
 
 namespace cdkit::test {
+
+/// A cdkit pose as FCL's.
+inline fcl::Transform3d fcl_pose(const Transform<double>& p) {
+    fcl::Transform3d x = fcl::Transform3d::Identity();
+    x.linear() = p.R;
+    x.translation() = p.t;
+    return x;
+}
 
 template <class BV> std::shared_ptr<fcl::BVHModel<BV>> fcl_mesh(const TriangleMesh<double>& m) {
     auto model = std::make_shared<fcl::BVHModel<BV>>();

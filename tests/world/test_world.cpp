@@ -147,7 +147,7 @@ TEST_CASE("World contacts equal an all-pairs narrow phase for every broad phase"
             CHECK(r.stats.tested_pairs == r.stats.broad_pairs);
             CHECK(r.stats.broad_pairs >= r.contacts.size());
             total += ref.size();
-            for (const auto& c : ref) (c.has_depth ? convex_contacts : mesh_contacts) += 1;
+            for (const auto& c : ref) (c.method == PairMethod::convex_convex ? convex_contacts : mesh_contacts) += 1;
             ++frames;
         }
         // Hit rate: both kinds of narrow phase produced contacts, far from all pairs.
@@ -233,7 +233,7 @@ TEST_CASE("World respects the interest matrix's groups and pair overrides", "[wo
     }
 }
 
-TEST_CASE("World: convex–convex contacts carry EPA depth; convex–mesh contacts are surface contacts", "[world]") {
+TEST_CASE("World: convex–convex contacts carry EPA depth; convex–mesh contacts the deepest facet's", "[world]") {
     World<double> world;
     const ObjectId a = world.add(Shape<double>::sphere(1.0), T{});
     const ObjectId b = world.add(Shape<double>::box(V(0.5, 0.5, 0.5)), T::translation(V(1.3, 0, 0)));
@@ -258,10 +258,47 @@ TEST_CASE("World: convex–convex contacts carry EPA depth; convex–mesh contac
         CHECK((r.contacts.size() == 1) == expected);
         if (!r.contacts.empty()) {
             CHECK(r.contacts[0].method == PairMethod::convex_mesh);
-            CHECK_FALSE(r.contacts[0].has_depth);
+            // The depth against the deepest touching facet: 0.2 − |d − 1| up to the facets' sag (1 − cos(π/24)).
+            CHECK(r.contacts[0].has_depth);
+            CHECK(std::abs(r.contacts[0].depth - (0.2 - std::abs(d - 1))) < 0.01);
+            if (d != 1.0) CHECK(r.contacts[0].normal.z() * (d - 1) > 0);  // the ball leaves the facet on its own side
+            CHECK((r.contacts[0].point_a - r.contacts[0].point_b - r.contacts[0].depth * r.contacts[0].normal).norm() < 1e-9);
             CHECK(std::abs(r.contacts[0].point_a.z() - 1.0) < 0.3);
             CHECK(r.contacts[0].a == std::min(m, s));
         }
+    }
+}
+
+TEST_CASE("World: mesh–mesh contacts carry the depth of the volumes along the curve's normal", "[world]") {
+    World<double> world;
+    const ObjectId a = world.add(Shape<double>::mesh(test::grid_box<double>(V(0.5, 0.5, 0.5), 2)), T{});
+    const ObjectId b = world.add(Shape<double>::mesh(test::grid_box<double>(V(0.4, 0.4, 0.4), 2)), T::translation(V(0.7, 0, 0)));
+    auto r = world.step();
+    REQUIRE(r.contacts.size() == 1);
+    const auto& c = r.contacts[0];
+    CHECK(c.method == PairMethod::mesh_mesh);
+    CHECK(c.a == a);
+    CHECK(c.b == b);
+    CHECK(c.has_depth);
+    CHECK(c.depth == Approx(0.2).margin(1e-9));
+    CHECK(c.normal.isApprox(V(1, 0, 0), 1e-9));
+    CHECK((c.point_a - c.point_b - c.depth * c.normal).norm() < 1e-9);
+    // Nested without a crossing surface: no contact, as collide() says (docs/world.md).
+    world.set_pose(b, T::translation(V(0.05, 0, 0)));
+    CHECK(world.step().contacts.empty());
+    // WorldOptions::mesh_depth off: the same pair, a witness point only.
+    WorldOptions o;
+    o.mesh_depth = false;
+    World<double> plain(o);
+    plain.add(Shape<double>::mesh(test::grid_box<double>(V(0.5, 0.5, 0.5), 2)), T{});
+    plain.add(Shape<double>::mesh(test::grid_box<double>(V(0.4, 0.4, 0.4), 2)), T::translation(V(0.7, 0, 0)));
+    plain.add(Shape<double>::sphere(0.2), T::translation(V(0.0, 0.0, 0.6)));
+    r = plain.step();
+    REQUIRE(r.contacts.size() == 2);
+    for (const auto& k : r.contacts) {
+        CHECK_FALSE(k.has_depth);
+        CHECK(k.depth == 0);
+        CHECK(k.point_a == k.point_b);
     }
 }
 

@@ -24,6 +24,10 @@ struct ManifoldRequest {
     double feature_angle = 0.1;
     /// Only the deepest point (EPA's witness pair): the classic single contact, for comparison.
     bool single_point = false;
+    /// The World's narrow phase (collide_shapes) only: contacts with a mesh get a depth and normal (mesh–mesh:
+    /// penetration_depth(); convex–mesh: the deepest touching triangle's EPA). Off: a witness point only, as
+    /// collide() gives it (cheaper: no crossing set, no EPA per triangle).
+    bool mesh_depth = true;
 };
 
 /// One contact point of a manifold (world frame).

@@ -5,16 +5,19 @@
 ///   convex – convex : the contact manifold (manifold/contact_manifold.hpp): GJK boolean test (warm-started from
 ///                     the caller's per-pair GjkCache; van den Bergen, JGT 1999), EPA for depth and normal (van
 ///                     den Bergen, GDC 2001), then up to four points from the touching faces or edges;
-///   mesh – mesh     : collide() on the two OBB trees (first intersecting triangle pair as the witness);
-///   convex – mesh   : collide(mesh, pose, shape, pose) of mesh_convex/collide.hpp: descent of the mesh's OBB tree
-///                     against the shape's bound in the mesh frame, then the exact sphere / capsule test or GJK
-///                     of the shape against each triangle of the overlapping leaves.
+///   mesh – mesh     : penetration_depth() of mesh_depth/penetration_depth.hpp on the two OBB trees: the crossing
+///                     triangle pairs, the intersection curve's normal, and the translation of b along it that undoes
+///                     every crossing (depth), with the triangle pair that separates last as the points;
+///   convex – mesh   : penetration(mesh, pose, shape, pose) of mesh_convex/penetration.hpp: descent of the mesh's OBB
+///                     tree against the shape's bound, the exact sphere / capsule test or GJK per triangle, then EPA
+///                     between the shape and each touching triangle; the deepest triangle gives depth and normal.
 ///   compound – any  : each child near the other shape (the compound's tree) against it, one contact per touching
 ///                     child pair (collide_shapes_all; collide_shapes keeps the deepest).
 ///
 /// Contacts that involve a mesh are surface contacts (a triangle touches or crosses the other shape): a
-/// convex shape lying wholly inside a closed mesh is *not* reported, and no penetration depth is given
-/// (has_depth is false). Use a convex representation where volume matters (suggest_representation.hpp).
+/// convex shape lying wholly inside a closed mesh is *not* reported. Their depth says how far to push apart: for
+/// two meshes the depth of the volumes along the normal (the surfaces uncross), for a convex shape against a mesh
+/// the depth against the deepest touching triangle (docs/contacts.md, "Mesh penetration depth").
 /// With a contact margin (ManifoldRequest::margin > 0) pairs apart by at most the margin are reported too, as
 /// speculative contacts: `colliding` false, `distance` their separation, points with negative depth (meshes: their
 /// closest points).
@@ -28,6 +31,8 @@
 #include "cdkit/ccd/mesh_toi.hpp"
 #include "cdkit/distance.hpp"
 #include "cdkit/manifold/contact_manifold.hpp"
+#include "cdkit/mesh_convex/penetration.hpp"
+#include "cdkit/mesh_depth/penetration_depth.hpp"
 #include "cdkit/mesh_convex/collide.hpp"
 #include "cdkit/mesh_convex/distance.hpp"
 #include "cdkit/narrowphase/epa.hpp"
@@ -51,9 +56,10 @@ template <class S = double> struct WorldContact {
     /// Touching or overlapping; false for a speculative contact (apart by `distance` ≤ the World's contact margin).
     bool colliding = true;
     S distance = S(0);  ///< separation of a speculative contact; 0 when colliding
-    /// Convex–convex: true, and depth/normal/points come from the contact manifold. With a mesh: false, depth 0,
-    /// point_a == point_b a witness point where the surfaces touch, normal zero (a speculative contact: the
-    /// closest points and the direction between them).
+    /// True for every contact at the present poses: convex–convex from the contact manifold, mesh–mesh from
+    /// penetration_depth(), convex–mesh from the deepest touching triangle's EPA. False for speculative contacts
+    /// (their closest points and the direction between them), and for mesh contacts with ManifoldRequest::mesh_depth
+    /// off (WorldOptions::mesh_depth: point_a == point_b a witness, normal zero). CCD contacts: depth 0 at toi.
     bool has_depth = false;
     S depth = S(0);                          ///< penetration depth ≥ 0 of the deepest point (0: touching)
     Vec3<S> normal = Vec3<S>::Zero();        ///< unit, from a towards b: moving b by depth·normal separates them
@@ -92,18 +98,55 @@ template <class S = double> struct PairCache {
 
 namespace detail {
 
-/// The convex shape `c` (at `pose_c`) against mesh `m` (at `pose_m`): first touching triangle, or nothing. The
-/// public mesh–convex query (mesh_convex/collide.hpp) does the work; its witness is a point of the triangle inside
-/// the shape. `c_bounds` is no longer needed (the query bounds the shape itself) and kept for the call below.
+/// The convex shape `c` (at `pose_c`) against mesh `m` (at `pose_m`): the deepest touching triangle (the public
+/// mesh–convex penetration()), or without `with_depth` the first one (collide(): a witness point only), or nothing.
+/// `convex_first` says which of the two is the World's `a`.
 template <class S, class Convex>
-std::optional<WorldContact<S>> convex_vs_mesh(const Convex& c, [[maybe_unused]] const Aabb<S>& c_bounds,
-                                              const Transform<S>& pose_c, const WorldMeshModel<S>& m,
-                                              const Transform<S>& pose_m) noexcept {
-    const MeshConvexResult<S> r = cdkit::collide(m, pose_m, c, pose_c, MeshConvexRequest{ContactMode::first});
-    if (!r.colliding || r.contacts.empty()) return std::nullopt;
+std::optional<WorldContact<S>> convex_vs_mesh(const Convex& c, const Transform<S>& pose_c, const WorldMeshModel<S>& m,
+                                              const Transform<S>& pose_m, bool convex_first, bool with_depth) noexcept {
+    if (!with_depth) {
+        const MeshConvexResult<S> r = cdkit::collide(m, pose_m, c, pose_c, MeshConvexRequest{ContactMode::first});
+        if (!r.colliding || r.contacts.empty()) return std::nullopt;
+        WorldContact<S> w;
+        w.method = PairMethod::convex_mesh;
+        w.point_a = w.point_b = r.contacts.front().point;
+        return w;
+    }
+    const MeshConvexPenetrationResult<S> r = cdkit::penetration(m, pose_m, c, pose_c, MeshConvexRequest{ContactMode::first});
+    if (!r.colliding) return std::nullopt;
     WorldContact<S> w;
     w.method = PairMethod::convex_mesh;
-    w.point_a = w.point_b = r.contacts.front().point;
+    w.has_depth = true;
+    w.depth = r.deepest.depth;
+    // penetration()'s normal runs from the triangle towards the shape: the World's runs from a to b.
+    w.normal = convex_first ? Vec3<S>(-r.deepest.normal) : r.deepest.normal;
+    w.point_a = convex_first ? r.deepest.point_shape : r.deepest.point_mesh;
+    w.point_b = convex_first ? r.deepest.point_mesh : r.deepest.point_shape;
+    return w;
+}
+
+/// Mesh a against mesh b: penetration_depth() (mesh_depth/) in the World's terms, or without `with_depth` collide()'s
+/// first crossing pair as a witness, or nothing.
+template <class S>
+std::optional<WorldContact<S>> mesh_vs_mesh(const WorldMeshModel<S>& a, const Transform<S>& pa, const WorldMeshModel<S>& b,
+                                            const Transform<S>& pb, bool with_depth) {
+    if (!with_depth) {
+        const CollisionResult<S> r = collide(a, pa, b, pb);
+        if (!r.colliding || r.contacts.empty()) return std::nullopt;
+        WorldContact<S> w;
+        w.method = PairMethod::mesh_mesh;
+        w.point_a = w.point_b = r.contacts.front().point;
+        return w;
+    }
+    const MeshDepthResult d = penetration_depth(a, pa, b, pb);
+    if (!d.colliding) return std::nullopt;
+    WorldContact<S> w;
+    w.method = PairMethod::mesh_mesh;
+    w.has_depth = true;
+    w.depth = S(d.depth);
+    w.normal = d.normal.template cast<S>();
+    w.point_a = d.point_a.template cast<S>();
+    w.point_b = d.point_b.template cast<S>();
     return w;
 }
 
@@ -174,13 +217,8 @@ template <class S>
             });
         });
     } else if (!a.is_convex() && !b.is_convex()) {
-        const CollisionResult<S> r = collide(a.mesh_model(), pa, b.mesh_model(), pb);
-        if (r.colliding && !r.contacts.empty()) {
-            WorldContact<S> w;
-            w.method = PairMethod::mesh_mesh;
-            w.point_a = w.point_b = r.contacts.front().point;
-            out = w;
-        } else if (margin > S(0)) {
+        out = detail::mesh_vs_mesh(a.mesh_model(), pa, b.mesh_model(), pb, request.mesh_depth);
+        if (!out && margin > S(0)) {
             const DistanceResult<S> d = distance(a.mesh_model(), pa, b.mesh_model(), pb);
             if (d.distance <= margin)
                 out = detail::speculative_contact(PairMethod::mesh_mesh, d.point_a, d.point_b, d.distance);
@@ -192,7 +230,7 @@ template <class S>
         const Transform<S>& pc = convex_first ? pa : pb;
         const Transform<S>& pm = convex_first ? pb : pa;
         out = convex.visit_convex([&](const auto& c) -> std::optional<WorldContact<S>> {
-            if (auto w = detail::convex_vs_mesh(c, convex.local_bounds(), pc, mesh.mesh_model(), pm)) return w;
+            if (auto w = detail::convex_vs_mesh(c, pc, mesh.mesh_model(), pm, convex_first, request.mesh_depth)) return w;
             if (!(margin > S(0))) return std::nullopt;
             const MeshConvexDistanceResult<S> d = distance(mesh.mesh_model(), pm, c, pc);
             if (!(d.distance <= margin)) return std::nullopt;

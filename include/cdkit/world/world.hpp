@@ -45,6 +45,8 @@ struct WorldOptions {
     std::size_t parallel_min_pairs = 32;
     /// Convex pairs get contact manifolds (up to four points, manifold/contact_manifold.hpp); off: EPA's single point.
     bool manifolds = true;
+    /// Contacts with a mesh get a depth and normal (docs/world.md); off: a witness point only (has_depth false).
+    bool mesh_depth = true;
     /// Speculative contacts: pairs apart by at most this much (≥ 0, finite) are reported too, with `colliding`
     /// false and their distance. Broad-phase boxes grow by it.
     double contact_margin = 0;
@@ -76,6 +78,7 @@ public:
                                                                   std::to_string(options.contact_margin));
         request_.margin = options.contact_margin;
         request_.single_point = !options.manifolds;
+        request_.mesh_depth = options.mesh_depth;
         switch (options.broad_phase) {
             case BroadPhaseKind::dynamic_aabb_tree: bp_.template emplace<DynamicAabbTree<S>>(); break;
             case BroadPhaseKind::sweep_and_prune: bp_.template emplace<SweepAndPrune<S>>(); break;
