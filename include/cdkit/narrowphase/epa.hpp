@@ -418,9 +418,7 @@ CDKIT_COLD_PATH void refine_penetration(const A& a, const Transform<typename A::
     EpaSettings<W> ws;
     ws.max_iterations = settings.max_iterations;
     ws.rel_tolerance = W(settings.rel_tolerance);
-    ws.gjk.max_iterations = settings.gjk.max_iterations;
-    ws.gjk.rel_tolerance = W(settings.gjk.rel_tolerance);
-    ws.gjk.touch_factor = widened_touch_factor(settings.gjk.touch_factor);
+    ws.gjk = widened_settings(settings.gjk);  // as GJK's refine_near_contact
     const PenetrationResult<W> w = penetration_query(wa, frame.pose_a, wb, frame.pose_b, ws);
     const bool finite = std::isfinite(w.depth) && std::isfinite(w.depth_lower) && w.normal.allFinite() &&
                         w.point_a.allFinite() && w.point_b.allFinite();
