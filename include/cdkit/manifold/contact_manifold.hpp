@@ -3,7 +3,7 @@
 /// a box is held at its corners instead of rocking on one point.
 ///
 /// The method (the one of box2d and Jolt, in 3-D): GJK decides the pair (warm-started from the caller's cache),
-/// EPA gives the penetration normal n (van den Bergen, GDC 2001); then each shape's supporting feature along the
+/// EPA, started from GJK's final simplex, gives the penetration normal n (van den Bergen, GDC 2001); then each shape's supporting feature along the
 /// normal (A's along n, B's along −n: face, edge or vertex, feature.hpp) is found, the better aligned face becomes
 /// the reference, and the other feature is clipped to the prism over it (detail/clip.hpp, Sutherland–Hodgman). Every
 /// clipped point whose height over the reference plane is at most the margin is a contact point, its depth that
@@ -109,7 +109,9 @@ template <SupportMapped A, SupportMapped B>
     ManifoldPoint<S> deepest;
     Vec3<S> n;
     if (g.colliding) {
-        const PenetrationResult<S> p = penetration(a, pose_a, b, pose_b);
+        // EPA from GJK's final tetrahedron where GJK ended on one, so the pair pays for GJK once.
+        const PenetrationResult<S> p = penetration(a, pose_a, b, pose_b, g);
+        m.stats.gjk_iterations += p.gjk_iterations;
         m.stats.epa_iterations = p.epa_iterations;
         m.colliding = true;
         n = p.normal;

@@ -55,8 +55,10 @@ template <class S = double> struct ManifoldCache {
 
 /// Counters of one manifold query.
 struct ManifoldStats {
-    int gjk_iterations = 0;  ///< of the (warm-started) boolean test, and the distance query within a margin
-    int epa_iterations = 0;  ///< of the penetration query (its own GJK run not counted)
+    /// of the (warm-started) boolean test, the distance query within a margin and EPA's own GJK run (where EPA
+    /// could not start from the boolean's final simplex)
+    int gjk_iterations = 0;
+    int epa_iterations = 0;  ///< of the penetration query
     int clipped_points = 0;  ///< points after clipping, before the reduction to four
     int kept_ids = 0;        ///< points that took last frame's id (ManifoldCache)
 };

@@ -159,7 +159,7 @@ template <SupportMapped C, class S>
             if (g.status == GjkStatus::touching) {
                 *witness = (g.point_a + g.point_b) * S(0.5);
             } else {
-                const PenetrationResult<S> p = penetration(tri, Transform<S>{}, shape, b.pose);
+                const PenetrationResult<S> p = penetration(tri, Transform<S>{}, shape, b.pose, g);
                 *witness = p.point_a;  // the triangle's deepest point: inside the shape
             }
         }

@@ -384,6 +384,11 @@ template <SupportMapped A, SupportMapped B>
     //    lower simplex (the origin then lies on it).
     const S margin = ma + mb;
     if (margin > S(0)) return detail::epa_stage<true>(a, b, rel, pose_a, s, settings, margin, ma, mb, r);
+    // Shapes without margins have their full shapes as cores: the loop above already ran on them (the same support
+    // queries, hinted where a polyhedron has hints), so its simplex starts EPA without a second GJK run.
+    if constexpr (!HasMargin<A> && !HasMargin<B>) {
+        return detail::epa_stage<false>(a, b, rel, pose_a, s, settings, S(0), S(0), S(0), r);
+    }
     int it2 = 0;
     st = detail::gjk_loop<false, false>(a, b, rel, settings.gjk, nullptr, S(0), s, v, size, it2, lower);
     r.gjk_iterations += it2;
@@ -413,9 +418,7 @@ CDKIT_COLD_PATH void refine_penetration(const A& a, const Transform<typename A::
     EpaSettings<W> ws;
     ws.max_iterations = settings.max_iterations;
     ws.rel_tolerance = W(settings.rel_tolerance);
-    ws.gjk.max_iterations = settings.gjk.max_iterations;
-    ws.gjk.rel_tolerance = W(settings.gjk.rel_tolerance);
-    ws.gjk.touch_factor = widened_touch_factor(settings.gjk.touch_factor);
+    ws.gjk = widened_settings(settings.gjk);  // as GJK's refine_near_contact
     const PenetrationResult<W> w = penetration_query(wa, frame.pose_a, wb, frame.pose_b, ws);
     const bool finite = std::isfinite(w.depth) && std::isfinite(w.depth_lower) && w.normal.allFinite() &&
                         w.point_a.allFinite() && w.point_b.allFinite();
@@ -447,6 +450,72 @@ template <SupportMapped A, SupportMapped B>
     if constexpr (detail::refines_near_contact<S>) {
         if (r.status == GjkStatus::degenerate) detail::refine_penetration(a, pose_a, b, pose_b, settings, r);
     }
+    r.colliding = is_colliding(r.status);
+    return r;
+}
+
+namespace detail {
+
+/// True when EPA can start from `g`'s final simplex (`penetration` with a GjkResult): shapes without margins (their
+/// cores are the full shapes EPA walks on; with margins the depth needs the cores' distance, which an early boolean
+/// exit inside the margins does not give), GJK proved the overlap with four finite points of D around the origin
+/// (every exit on `sel.inside`; a containment, bounding-ball or touching-proof exit leaves fewer).
+template <SupportMapped A, SupportMapped B>
+[[nodiscard]] inline bool epa_starts_from(const GjkResult<typename A::Scalar>& g) noexcept {
+    if constexpr (HasMargin<A> || HasMargin<B>) {
+        return false;
+    } else {
+        if (g.status != GjkStatus::intersecting || g.simplex.size != 4) return false;
+        for (int i = 0; i < 4; ++i) {
+            const GjkVertex<typename A::Scalar>& x = g.simplex.v[std::size_t(i)];
+            if (!x.w.allFinite() || !x.a.allFinite() || !x.b.allFinite()) return false;
+        }
+        return true;
+    }
+}
+
+/// EPA from GJK's final simplex `s` (four points of D around the origin, A's frame, placed by
+/// `relative_pose(pose_a, pose_b)` as gjk_query places them; `epa_starts_from` holds), with `penetration`'s
+/// long-double retry of a degenerate answer. For shapes with margins, which never start from a simplex, it is
+/// `penetration_query` (so that the precompiled instances of every built-in pair stay small).
+template <SupportMapped A, SupportMapped B>
+[[nodiscard]] PenetrationResult<typename A::Scalar> penetration_from_simplex(
+    const A& a, const Transform<typename A::Scalar>& pose_a, const B& b, const Transform<typename A::Scalar>& pose_b,
+    const GjkSimplex<typename A::Scalar>& s, const EpaSettings<typename A::Scalar>& settings) noexcept {
+    using S = typename A::Scalar;
+    if constexpr (HasMargin<A> || HasMargin<B>) {
+        (void)s;
+        return penetration_query(a, pose_a, b, pose_b, settings);
+    } else {
+        // The relative pose GJK's points were placed with, so that EPA's new support points and the simplex's lie
+        // in one frame.
+        const Transform<S> rel = relative_pose(pose_a, pose_b);
+        PenetrationResult<S> r =
+            epa_stage<false>(a, b, rel, pose_a, s, settings, S(0), S(0), S(0), PenetrationResult<S>{});
+        if constexpr (refines_near_contact<S>) {
+            if (r.status == GjkStatus::degenerate) refine_penetration(a, pose_a, b, pose_b, settings, r);
+        }
+        return r;
+    }
+}
+
+}  // namespace detail
+
+/// Penetration query after a GJK query of the same pair at the same poses (`gjk`, from `gjk_intersect` or
+/// `gjk_distance`, cold or warm): where GJK proved the overlap with a tetrahedron of A − B around the origin
+/// (`detail::epa_starts_from`), EPA starts from that final simplex (the one GjkResult keeps for it) and no GJK runs
+/// again (`gjk_iterations` 0); otherwise the same as `penetration` without it. A caller that decides the pair with
+/// GJK first (contact_manifold, the World's contacts) so pays for GJK once. The answer is EPA's from another start
+/// than `penetration`'s own GJK would give: the same depth within `rel_tolerance`, not the same bits.
+/// Const, noexcept, thread-safe, never NaN.
+template <SupportMapped A, SupportMapped B>
+    requires std::same_as<typename A::Scalar, typename B::Scalar>
+[[nodiscard]] inline PenetrationResult<typename A::Scalar> penetration(
+    const A& a, const Transform<typename A::Scalar>& pose_a, const B& b, const Transform<typename A::Scalar>& pose_b,
+    const GjkResult<typename A::Scalar>& gjk, const EpaSettings<typename A::Scalar>& settings = {}) noexcept {
+    if (!detail::epa_starts_from<A, B>(gjk)) return penetration(a, pose_a, b, pose_b, settings);
+    PenetrationResult<typename A::Scalar> r =
+        detail::penetration_from_simplex(a, pose_a, b, pose_b, gjk.simplex, settings);
     r.colliding = is_colliding(r.status);
     return r;
 }

@@ -39,11 +39,15 @@
         const A&, const ::cdkit::Transform<double>&, const B&, const ::cdkit::Transform<double>&,             \
         ::cdkit::GjkCache<double>*, const ::cdkit::GjkSettings<double>&, bool, bool) noexcept;
 
-/// The same for EPA's query (its long-double retry `refine_penetration` is instantiated with it).
+/// The same for EPA's queries (from scratch and from GJK's simplex; the long-double retry `refine_penetration` is
+/// instantiated with them).
 #define CDKIT_PENETRATION_QUERY_INSTANCE(prefix, A, B)                                                     \
     prefix template PenetrationResult<double> detail::penetration_query<A, B>(          \
         const A&, const ::cdkit::Transform<double>&, const B&, const ::cdkit::Transform<double>&,         \
         const ::cdkit::EpaSettings<double>&) noexcept;                                                     \
     prefix template void detail::refine_penetration<A, B>(                                        \
         const A&, const ::cdkit::Transform<double>&, const B&, const ::cdkit::Transform<double>&,         \
-        const ::cdkit::EpaSettings<double>&, ::cdkit::PenetrationResult<double>&) noexcept;
+        const ::cdkit::EpaSettings<double>&, ::cdkit::PenetrationResult<double>&) noexcept;           \
+    prefix template PenetrationResult<double> detail::penetration_from_simplex<A, B>(                   \
+        const A&, const ::cdkit::Transform<double>&, const B&, const ::cdkit::Transform<double>&,         \
+        const ::cdkit::GjkSimplex<double>&, const ::cdkit::EpaSettings<double>&) noexcept;
