@@ -174,16 +174,25 @@ template <class S> inline void distance_to_world(const Transform<S>& pose_a, Dis
 }
 }  // namespace detail
 
+/// A volume distance() can descend: a free distance_lower_bound(a, b, rel, cutoff) (every BV of the family has one).
+template <class BV>
+concept HasDistanceLowerBound = requires(const BV& x, const typename BV::Relative& rel, typename BV::Scalar s) {
+    { distance_lower_bound(x, x, rel, s) } -> std::convertible_to<typename BV::Scalar>;
+};
+
 /// Separation distance between two mesh models at the given world poses (model frame → world): the
 /// smallest distance between a triangle of A and a triangle of B, with a closest pair of points (world
 /// frame) and the two triangles. 0 with a witness point when the meshes intersect. `request` trades
-/// accuracy for speed (see DistanceRequest). BV: a volume with distance_lower_bound (Aabb, Obb, Rss; Rss
-/// trees built with SplitStrategy::sah are the fastest, see docs/bvh.md).
+/// accuracy for speed (see DistanceRequest). BV: any of the family (Aabb, Obb, Rss, Kdop, BoundingSphere), or
+/// a volume of one's own with distance_lower_bound (Rss trees built with SplitStrategy::sah are the fastest, see
+/// docs/bvh.md; the boxes and k-DOPs next, the spheres' bound is the loosest).
 /// M is the meshes' scalar; with float BVs over double meshes the bounds are computed in float (see MeshModel).
 template <class BV, class M>
 [[nodiscard]] DistanceResult<M> distance(const MeshModel<BV, M>& a, const std::type_identity_t<Transform<M>>& pose_a,
                                          const MeshModel<BV, M>& b, const std::type_identity_t<Transform<M>>& pose_b,
                                          const DistanceRequest<M>& request = {}) {
+    static_assert(HasDistanceLowerBound<BV>,
+                  "distance(): the BV needs a free distance_lower_bound(a, b, rel, cutoff) (bv/bv_distance.hpp)");
     using S = M;
     DistanceResult<S> out;
     if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {

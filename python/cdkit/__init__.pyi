@@ -1119,7 +1119,7 @@ def mesh_convex_toi(mesh: MeshModel, mesh_start: Pose | None, mesh_end: Pose | N
     """Time of impact of a mesh and a convex shape moving from their start to their end poses (any bv)."""
 
 def mesh_toi(a: MeshModel, a_start: Pose | None, a_end: Pose | None, b: MeshModel, b_start: Pose | None, b_end: Pose | None, request: ToiRequest | None = None) -> ToiResult:
-    """Time of impact of two meshes under rigid motions (rotation included), by conservative advancement (bv 'aabb', 'obb' or 'rss')."""
+    """Time of impact of two meshes under rigid motions (rotation included), by conservative advancement (any bv)."""
 
 def penalty_wrench(volume: PenetrationVolumeResult, a: InnerSphereTree, pose_a: Pose | None, b: InnerSphereTree, pose_b: Pose | None, stiffness: float, reference_a: ArrayLike = None, reference_b: ArrayLike = None) -> PenaltyWrench:
     """Penalty force and torques from a complete penetration_volume() result with pairs, at the same poses (torques about the reference points; None: the poses' origins)."""

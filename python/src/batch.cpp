@@ -104,8 +104,7 @@ void init_batch(py::module_& m) {
             req.rel_err = rel_err;
             req.abs_err = abs_err;
             visit_pair(a, b, [&](const auto& x, const auto& y) {
-                if constexpr (!supports_distance<std::decay_t<decltype(x)>>) no_distance(a.bv);
-                else run_batch(threads, [&] {
+                run_batch(threads, [&] {
                     const auto r = distance_many(x, std::span<const Pose>(pa), y, std::span<const Pose>(pb), req);
                     for (std::size_t i = 0; i < r.size(); ++i) {
                         d[i] = r[i].distance;

@@ -94,13 +94,6 @@ template <class F> decltype(auto) visit_pair(const PyMeshModel& a, const PyMeshM
         a.model);
 }
 
-/// distance() and distance_many() need a BV distance bound: Aabb, Obb and Rss trees (ValueError for the others).
-template <class Model> constexpr bool supports_distance = std::is_same_v<typename Model::BoundingVolume, Aabb<double>> ||
-                                                          std::is_same_v<typename Model::BoundingVolume, Obb<double>> ||
-                                                          std::is_same_v<typename Model::BoundingVolume, Rss<double>>;
-[[noreturn]] inline void no_distance(BV b) {
-    throw py::value_error(std::string("distance queries need models with bv 'aabb', 'obb' or 'rss', not '") + bv_name(b) + "'");
-}
 
 // ---- convex shapes --------------------------------------------------------------------------------------
 using Polyhedron = ConvexPolyhedron<double>;

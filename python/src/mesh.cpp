@@ -206,12 +206,8 @@ void init_mesh(py::module_& m) {
             const DistanceRequest<double> req =
                 request.is_none() ? DistanceRequest<double>{} : request.cast<DistanceRequest<double>>();
             return visit_pair(a, b, [&](const auto& x, const auto& y) -> DistanceResult<double> {
-                if constexpr (supports_distance<std::decay_t<decltype(x)>>) {
-                    py::gil_scoped_release nogil;
-                    return distance(x, pa, y, pb, req);
-                } else {
-                    no_distance(a.bv);
-                }
+                py::gil_scoped_release nogil;
+                return distance(x, pa, y, pb, req);
             });
         },
         py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("request") = py::none(),

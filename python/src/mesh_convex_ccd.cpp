@@ -74,18 +74,14 @@ void init_mesh_convex_ccd(py::module_& m) {
                        b1 = pose(b_end, "b_end");
             const ToiRequest req = toi_request(request);
             return visit_pair(a, b, [&](const auto& x, const auto& y) -> ToiResult {
-                if constexpr (supports_distance<std::decay_t<decltype(x)>>) {
-                    py::gil_scoped_release nogil;
-                    return mesh_toi(x, a0, a1, y, b0, b1, req);
-                } else {
-                    no_distance(a.bv);
-                }
+                py::gil_scoped_release nogil;
+                return mesh_toi(x, a0, a1, y, b0, b1, req);
             });
         },
         py::arg("a"), py::arg("a_start"), py::arg("a_end"), py::arg("b"), py::arg("b_start"), py::arg("b_end"),
         py::arg("request") = py::none(),
         "Time of impact of two meshes under rigid motions (rotation included), by conservative advancement "
-        "(bv 'aabb', 'obb' or 'rss').");
+        "(any bv).");
 }
 
 }  // namespace cdkit::python

@@ -7,7 +7,6 @@ import cdkit
 from conftest import cube, rotation_z, translation
 
 BVS = ["aabb", "obb", "rss", "kdop18", "sphere"]
-DISTANCE_BVS = ["aabb", "obb", "rss"]  # the BVs with a distance bound (C++: distance() takes these)
 
 
 @pytest.mark.parametrize("bv", BVS)
@@ -21,11 +20,7 @@ def test_cubes_at_known_gaps(bv):
         r = cdkit.collide(m, None, m, pb)
         assert r.status == cdkit.QueryStatus.ok and not r.colliding and not r
         assert r.triangle_pairs.shape == (0, 2) and r.points.shape == (0, 3)
-        if bv not in DISTANCE_BVS:
-            with pytest.raises(ValueError, match="distance queries need"):
-                cdkit.distance(m, None, m, pb)
-            continue
-        d = cdkit.distance(m, None, m, pb)
+        d = cdkit.distance(m, None, m, pb)  # every BV has a distance bound
         assert d.distance == pytest.approx(gap, abs=1e-15)
         assert d.point_a[0] == pytest.approx(0.5) and d.point_b[0] == pytest.approx(0.5 + gap)
     # Overlapping by a quarter, and touching face to face (touching counts).
@@ -35,8 +30,7 @@ def test_cubes_at_known_gaps(bv):
         assert r.triangle_pairs.dtype == np.int64 and r.triangle_pairs.shape == (len(r.contacts), 2)
         assert r.points.shape == (len(r.contacts), 3)
         assert np.all(np.abs(r.points[:, 0] - x / 2) <= 0.5 - x / 2 + 1e-12)  # witnesses inside both cubes' overlap
-        if bv in DISTANCE_BVS:
-            assert cdkit.distance(m, None, m, translation(x)).distance == 0
+        assert cdkit.distance(m, None, m, translation(x)).distance == 0
 
 
 def test_all_contacts_equal_brute_force(bunny):

@@ -1,7 +1,7 @@
 // distance() on BVHs against distance_brute_force() (same triangle routine, so equal values when no error
 // is allowed), the error bound when one is, closest points on their triangles, intersecting poses, parallel
-// faces, degenerate triangles, both scalars, Aabb, Obb and Rss (also float Rss over double meshes, and SAH-built
-// trees), the traversal's pruning at work, concurrent queries, the reused per-thread heap, and the leaf-pair
+// faces, degenerate triangles, both scalars, every BV (Aabb, Obb, Rss, k-DOPs, spheres; also float Rss over double
+// meshes, and SAH-built trees), every BV's lower bound against the triangles under its nodes, the traversal's pruning at work, concurrent queries, the reused per-thread heap, and the leaf-pair
 // shortcut past the exact intersection test (same bits as triangle_distance). Fixed seeds.
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
@@ -63,7 +63,8 @@ void check_result(const TriangleMesh<S>& ma, const Transform<S>& pa, const Trian
 }  // namespace
 
 TEMPLATE_TEST_CASE("distance equals brute force on random soups and spheres", "[distance]", Aabb<float>, Aabb<double>,
-                   Obb<float>, Obb<double>, Rss<float>, Rss<double>) {
+                   Obb<float>, Obb<double>, Rss<float>, Rss<double>, (Kdop<float, 18>), (Kdop<double, 14>),
+                   (Kdop<double, 26>), BoundingSphere<float>, BoundingSphere<double>) {
     using BV = TestType;
     using S = typename BV::Scalar;
     std::mt19937_64 rng(2024);
@@ -146,6 +147,56 @@ TEMPLATE_TEST_CASE("distance: meshes with degenerate triangles", "[distance]", A
         const DistanceResult<S> r2 = distance(a, pa, a, pb);
         REQUIRE(r2.distance == distance_brute_force(a.mesh(), pa, a.mesh(), pb).distance);
     }
+}
+
+TEMPLATE_TEST_CASE("every BV's distance lower bound stays below the distance of the triangles it holds", "[distance][bv]",
+                   Aabb<double>, Obb<double>, Rss<double>, (Kdop<double, 6>), (Kdop<double, 14>), (Kdop<double, 18>),
+                   (Kdop<double, 26>), BoundingSphere<double>, Obb<float>, (Kdop<float, 18>), BoundingSphere<float>) {
+    using BV = TestType;
+    using S = typename BV::Scalar;
+    const MeshModel<BV> a(test::random_soup<S>(60, S(0.3), 3)), b(test::random_soup<S>(50, S(0.25), 4));
+    std::mt19937_64 rng(17);
+    const auto& na = a.bvh().nodes();
+    const auto& nb = b.bvh().nodes();
+    // Triangles under a node: the leaves' ranges below it.
+    const auto triangles = [](const MeshModel<BV>& m, std::uint32_t node) {
+        std::vector<Index> out;
+        std::vector<std::uint32_t> stack{node};
+        while (!stack.empty()) {
+            const auto& n = m.bvh().nodes()[stack.back()];
+            stack.pop_back();
+            if (n.is_leaf())
+                for (std::uint32_t i = n.first; i < n.first + n.count; ++i) out.push_back(m.bvh().triangle_order()[i]);
+            else stack.push_back(n.first), stack.push_back(n.first + 1);
+        }
+        return out;
+    };
+    int positive = 0, checked = 0;
+    for (int k = 0; k < test::scaled(40, 4); ++k) {
+        const Transform<S> rel = random_pose<S>(rng, 1.5);
+        const auto r = BV::relative(rel);
+        for (int q = 0; q < 20; ++q) {
+            const std::uint32_t ia = std::uniform_int_distribution<std::uint32_t>(0, std::uint32_t(na.size() - 1))(rng);
+            const std::uint32_t ib = std::uniform_int_distribution<std::uint32_t>(0, std::uint32_t(nb.size() - 1))(rng);
+            const S lb = distance_lower_bound(na[ia].bv, nb[ib].bv, r, std::numeric_limits<S>::infinity());
+            double best = std::numeric_limits<double>::infinity();
+            for (Index ta : triangles(a, ia)) {
+                const auto x = a.mesh().triangle(ta);
+                for (Index tb : triangles(b, ib)) {
+                    const auto y = b.mesh().triangle(tb);
+                    const TriangleDistance<S> d = triangle_distance(x[0], x[1], x[2], Vec3<S>(rel * y[0]),
+                                                                    Vec3<S>(rel * y[1]), Vec3<S>(rel * y[2]));
+                    best = std::min(best, double(d.distance));
+                }
+            }
+            INFO("pose " << k << " nodes " << ia << ", " << ib);
+            CHECK(double(lb) <= best);
+            CHECK(lb >= S(0));
+            positive += lb > S(0);
+            ++checked;
+        }
+    }
+    CHECK(positive > checked / 4);  // the bounds prune: most random node pairs are apart
 }
 
 TEST_CASE("distance lower bounds of boxes never exceed the sampled distance", "[distance][bv]") {

@@ -1,19 +1,23 @@
 #pragma once
-/// \file Lower bounds on the Euclidean distance between two boxes (Aabb, Obb) under the per-query relative
-/// transform, for branch-and-bound distance queries.
+/// \file Lower bounds on the Euclidean distance between two bounding volumes of one kind (Aabb, Obb, BoundingSphere,
+/// Kdop; Rss has its own in rss.hpp) under the per-query relative transform, for branch-and-bound distance queries.
 ///
 /// For any unit direction n, the gap between the boxes' projections onto n is at most their distance
 /// (the projection onto a line is 1-Lipschitz). The 15 axes of the box–box separating-axis test
 /// (Gottschalk, Lin, Manocha, "OBBTree", SIGGRAPH 1996) are natural candidates: the bound is the largest
 /// projection gap over them, each divided by its axis' length (the cross axes A_i × B_j are not unit).
-/// The circumscribed spheres' gap is a second candidate. Rounding: the projected radii are widened as in
+/// The circumscribed spheres' gap is a second candidate. Two bounding spheres: their gap. Two k-DOPs: the largest gap
+/// along one of A's K/2 slab directions between A's slab and the slab of A's frame that encloses B's DOP (the
+/// re-alignment of the overlap test, kdop.hpp), divided by the direction's length. Rounding: the projected radii are widened as in
 /// detail::boxes_disjoint, and the result is lowered by a few ulps of the coordinates' magnitude, so the
 /// bound stays below the distance that triangle_distance computes for any triangle pair inside the boxes.
 
 #include "cdkit/bv/aabb.hpp"
 #include "cdkit/bv/detail/distance_rounding.hpp"
+#include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/rss.hpp"
+#include "cdkit/bv/sphere.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -87,6 +91,49 @@ template <class S>
     const Mat3<S> Rb = at * (rel.R * b.axes);
     const Vec3<S> T = at * d;
     return std::max(sphere, detail::box_gap_lower_bound(a.half, b.half, Rb, detail::abs_with_slack(Rb), T, rel.slack));
+}
+
+/// BoundingSphere version of distance_lower_bound (same contract): the gap of the two balls.
+template <class S>
+[[nodiscard]] inline S distance_lower_bound(const BoundingSphere<S>& a, const BoundingSphere<S>& b,
+                                            const typename BoundingSphere<S>::Relative& rel,
+                                            [[maybe_unused]] S cutoff = std::numeric_limits<S>::infinity()) noexcept {
+    const Vec3<S> T = rel.R * b.center + rel.t - a.center;
+    const S gap = T.norm() - a.radius - b.radius - rel.t_slack;
+    return detail::lowered(gap, Vec3<S>(a.center.cwiseAbs() + Vec3<S>::Constant(a.radius)),
+                           Vec3<S>(b.center.cwiseAbs() + Vec3<S>::Constant(b.radius)), T);
+}
+
+/// Kdop version of distance_lower_bound (same contract): B's DOP enclosed in the slabs of A's frame as by overlap()
+/// (kdop.hpp), and the largest gap between those slabs and A's along one direction, over its length.
+template <class S, int K>
+[[nodiscard]] inline S distance_lower_bound(const Kdop<S, K>& a, const Kdop<S, K>& b, const typename Kdop<S, K>::Relative& rel,
+                                            [[maybe_unused]] S cutoff = std::numeric_limits<S>::infinity()) noexcept {
+    constexpr int N = K / 2;
+    constexpr int C = Kdop<S, K>::Relative::C;
+    S magnitude = 0, a_magnitude = 0;
+    for (int i = 0; i < 3; ++i) {
+        magnitude = std::max({magnitude, std::abs(b.h[i]), std::abs(b.h[N + i])});
+        a_magnitude = std::max({a_magnitude, std::abs(a.h[i]), std::abs(a.h[N + i])});
+    }
+    const S slack = rel.scale * magnitude + rel.t_slack;
+    const auto extent = [&](int k) {
+        const auto& p = rel.plane[k];
+        const auto& l = rel.lambda[k];
+        S e = l[0] * b.h[p[0]] + l[1] * b.h[p[1]] + l[2] * b.h[p[2]];
+        if constexpr (C == 6) e = std::min(e, l[3] * b.h[p[3]] + l[4] * b.h[p[4]] + l[5] * b.h[p[5]]);
+        return e + slack;
+    };
+    S best = 0;
+    for (int j = 0; j < N; ++j) {
+        const auto& d = Kdop<S, K>::directions[j];
+        const S length = std::sqrt(S(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        const S above = rel.dt[j] - extent(N + j) - a.h[j];    // B's slab above A's
+        const S below = -a.h[N + j] - (rel.dt[j] + extent(j));  // below it
+        best = std::max(best, std::max(above, below) / length);
+    }
+    return detail::lowered(best, Vec3<S>(Vec3<S>::Constant(a_magnitude)), Vec3<S>(Vec3<S>::Constant(2 * magnitude)),
+                           Vec3<S>(Vec3<S>::Constant(std::abs(rel.dt[0]) + std::abs(rel.dt[1]) + std::abs(rel.dt[2]))));
 }
 
 }  // namespace cdkit

@@ -47,15 +47,41 @@ struct DirectionDepth {
     Vec3<double> point_a = Vec3<double>::Zero(), point_b = Vec3<double>::Zero();  // A's frame
 };
 
+/// Per-thread storage of one depth query's node boxes and posed vertices, kept between queries: an entry is valid
+/// for the query whose generation it carries, so a new query costs no clearing (allocating and zeroing a box per
+/// node of two 5k-triangle trees took longer than the search itself).
+struct DepthScratch {
+    std::vector<BroadBox<double>> box_a, box_b;
+    std::vector<Vec3<double>> vertex_b;
+    std::vector<std::uint32_t> stamp_a, stamp_b, stamp_v;
+    std::uint32_t generation = 0;
+
+    /// Starts a query over trees of these sizes; entries of earlier queries become stale.
+    void begin(std::size_t nodes_a, std::size_t nodes_b, std::size_t vertices_b) {
+        if (++generation == 0) {  // wrapped: clear the stamps once
+            for (auto* v : {&stamp_a, &stamp_b, &stamp_v}) std::fill(v->begin(), v->end(), 0u);
+            generation = 1;
+        }
+        if (box_a.size() < nodes_a) box_a.resize(nodes_a), stamp_a.resize(nodes_a, 0);
+        if (box_b.size() < nodes_b) box_b.resize(nodes_b), stamp_b.resize(nodes_b, 0);
+        if (vertex_b.size() < vertices_b) vertex_b.resize(vertices_b), stamp_v.resize(vertices_b, 0);
+    }
+    static DepthScratch& of_this_thread() {
+        thread_local DepthScratch scratch;
+        return scratch;
+    }
+};
+
 /// Both trees with B carried into A's frame, the triangle pairs that cross now (collide(), ContactMode::all), and the
-/// node boxes and B's posed vertices, computed once on first use and shared by every direction.
+/// node boxes and B's posed vertices, computed on first use and shared by every direction (in the thread's
+/// DepthScratch: one DepthSearch per thread at a time).
 template <class BV, class M> class DepthSearch {
 public:
     DepthSearch(const MeshModel<BV, M>& a, const MeshModel<BV, M>& b, const Transform<double>& b_to_a)
-        : a_(a), b_(b), rel_(b_to_a), box_a_(a.bvh().nodes().size()), box_b_(b.bvh().nodes().size()),
-          have_a_(box_a_.size(), 0), have_b_(box_b_.size(), 0), vb_(b.mesh().vertices.size()),
-          have_vb_(vb_.size(), 0) {
+        : a_(a), b_(b), rel_(b_to_a), scratch_(DepthScratch::of_this_thread()) {
         crossing_ = collide(a, Transform<M>{}, b, b_to_a.template cast<M>(), CollisionRequest{ContactMode::all});
+        scratch_.begin(a.bvh().nodes().size(), b.bvh().nodes().size(), b.mesh().vertices.size());
+        generation_ = scratch_.generation;
     }
 
     /// The pairs that cross at B's present pose, in A's frame.
@@ -117,16 +143,20 @@ private:
     }
 
     const BroadBox<double>& box_a(std::uint32_t i) {
-        if (!have_a_[i]) box_a_[i] = world_box(a_.bvh().nodes()[i].bv, Transform<double>{}), have_a_[i] = 1;
-        return box_a_[i];
+        if (scratch_.stamp_a[i] != generation_)
+            scratch_.box_a[i] = world_box(a_.bvh().nodes()[i].bv, Transform<double>{}), scratch_.stamp_a[i] = generation_;
+        return scratch_.box_a[i];
     }
     const BroadBox<double>& box_b(std::uint32_t i) {
-        if (!have_b_[i]) box_b_[i] = world_box(b_.bvh().nodes()[i].bv, rel_), have_b_[i] = 1;
-        return box_b_[i];
+        if (scratch_.stamp_b[i] != generation_)
+            scratch_.box_b[i] = world_box(b_.bvh().nodes()[i].bv, rel_), scratch_.stamp_b[i] = generation_;
+        return scratch_.box_b[i];
     }
     const Vec3<double>& vertex_b(Index v) {
-        if (!have_vb_[v]) vb_[v] = rel_.R * b_.mesh().vertices[v].template cast<double>() + rel_.t, have_vb_[v] = 1;
-        return vb_[v];
+        if (scratch_.stamp_v[v] != generation_)
+            scratch_.vertex_b[v] = rel_.R * b_.mesh().vertices[v].template cast<double>() + rel_.t,
+            scratch_.stamp_v[v] = generation_;
+        return scratch_.vertex_b[v];
     }
     std::array<Vec3<double>, 3> triangle_a(Index t) const {
         const auto& m = a_.mesh();
@@ -198,10 +228,8 @@ private:
     const MeshModel<BV, M>& b_;
     Transform<double> rel_;
     CollisionResult<M> crossing_;
-    std::vector<BroadBox<double>> box_a_, box_b_;
-    std::vector<std::uint8_t> have_a_, have_b_;
-    std::vector<Vec3<double>> vb_;
-    std::vector<std::uint8_t> have_vb_;
+    DepthScratch& scratch_;
+    std::uint32_t generation_ = 0;
     std::vector<Pending> stack_;
 };
 
