@@ -137,10 +137,18 @@ template <SupportMapped A, SupportMapped B>
         n = detail::safe_normalized(Vec3<S>(pose_b * Vec3<S>(b.center()) - pose_a * Vec3<S>(a.center())));
         if (!(n.squaredNorm() > S(0.5))) n = Vec3<S>(S(0), S(0), S(1));
     }
+    if (request.single_point) {  // EPA's witness pair alone: no features (one point per pair, one fixed id)
+        m.normal = n;
+        m.count = 1;
+        deepest.id = detail::contact_id(0, 0, 0xFFFFFFFFull);
+        m.points[0] = deepest;
+        if (cache) detail::carry_ids(m, pose_a, *cache);
+        return m;
+    }
     const detail::FeatureTolerance<S> tol(request.feature_angle);
     const detail::ContactFeature<S> fa = detail::supporting_feature(a, pose_a, n, tol);
     const detail::ContactFeature<S> fb = detail::supporting_feature(b, pose_b, Vec3<S>(-n), tol);
-    if (request.single_point || fa.count == 1 || fb.count == 1 || !detail::clip_features(fa, fb, n, S(request.margin), m)) {
+    if (fa.count == 1 || fb.count == 1 || !detail::clip_features(fa, fb, n, S(request.margin), m)) {
         m.normal = n;
         m.count = 1;
         deepest.id = detail::contact_id(std::uint64_t(fa.index) << 1, fb.index, 0xFFFFFFFFull);
