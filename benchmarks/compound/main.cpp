@@ -5,14 +5,16 @@
 // seeded, 30 iterations); each part the convex hull of its voxels' corners. The parts are inner voxels grown by half a
 // voxel, so the compound follows the solid to about a voxel (0.05 here), overfilling concave dents a little.
 //
-// Probes: a sphere (r 0.08), a box (half 0.06), a capsule (r 0.04, half length 0.08), at N seeded random poses near
-// the surface (a random point of a random triangle moved by up to 0.25 in a random direction; random rotations). For each pose: collide_shapes of the probe against the mesh shape (a surface
-// contact) and against the compound, and the solid's truth: the probe meets the bunny's volume iff it touches the
-// surface or its centre is inside. Counted: agree (compound = solid); inside (the probe lies wholly inside: the mesh's
-// surface contact misses it by design, the compound reports it); extra (compound touches, the solid does not) and
-// missed (the solid touches, the compound does not), with the largest distance of an extra probe from the surface and
-// the largest depth of a missed one below its deepest facet (the decomposition's error, to compare with the voxel). Times: collide_shapes per query, median over the poses
-// of the fastest of 3 warm batches (thread CPU time), with the mesh's depth off and on (WorldOptions::mesh_depth).
+// Probes: a sphere (r 0.08), a box (half 0.06), a capsule (r 0.04, half length 0.08), at N seeded random poses near the
+// surface (a random point of a random triangle moved by up to 0.25 in a random direction; random rotations). For each
+// pose: collide_shapes of the probe against the mesh shape (a surface contact) and against the compound, and the
+// solid's truth: the probe meets the bunny's volume iff it touches the surface or its centre is inside. Counted: agree
+// (compound = solid); inside (the probe lies wholly inside: the mesh's surface contact misses it by design, the
+// compound reports it); extra (compound touches, the solid does not) and missed (the solid touches, the compound does
+// not), with the largest distance of an extra probe from the surface and the largest depth of a missed one below its
+// deepest facet (the decomposition's error, to compare with the voxel). Times: collide_shapes per query, median over
+// the poses of the fastest of 3 warm batches (thread CPU time), with the mesh's depth off and on
+// (WorldOptions::mesh_depth).
 //
 // Usage: cdkit_bench_compound [--poses N] [--parts K] [--csv FILE]
 #include "../bench_util.hpp"

@@ -13,12 +13,12 @@
 ///     length × (n_A − n_B), n the triangles' unit normals. For closed meshes oriented outwards it points the way B
 ///     leaves A (on a face crossing a face it is the faces' normal). Open meshes need consistent orientation for it;
 ///     otherwise pass a direction;
-///   - when both vanish, the line from the crossing's centre to B's centre.
+///   - when the curve's normal vanishes (its terms cancel), the line from the crossing's centre to B's centre.
 /// refine_steps > 0 then searches globally (32 directions spread over the sphere: directional depth has local minima)
 /// and locally around the best (a pattern search: four tilts by an angle that starts at 0.5 rad; a tilt that shortens
-/// the depth becomes the new centre, and when none does the angle halves, refine_steps times): the minimum over directions is the translational penetration depth, and every step can only
-/// come closer to it from above. A direction whose fixed-point frontier passes the best depth so far is abandoned.
-/// Const and thread-safe.
+/// the depth becomes the new centre, and when none does the angle halves, refine_steps times). The minimum over all
+/// directions is the translational penetration depth, and every step can only come closer to it from above. A
+/// direction whose fixed-point frontier passes the best depth so far is abandoned. Const and thread-safe.
 
 #include "cdkit/ist/inner_sphere_tree.hpp"
 #include "cdkit/ist/penalty_force.hpp"
