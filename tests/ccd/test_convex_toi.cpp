@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <cdkit/ccd/convex_toi.hpp>
+#include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
 
 namespace {
@@ -82,6 +83,60 @@ TEST_CASE("convex TOI: fast pairs of every size ratio never tunnel", "[ccd]") {
     }
     CHECK(sampled > n / 4);  // the motions do hit
     CHECK(contacts >= sampled);
+}
+
+TEST_CASE("shape cast: translating pairs of every size ratio never tunnel, hit within the tolerance", "[ccd]") {
+    // Both shapes only translate, so convex_toi takes the GJK ray cast; the sampled GJK boolean judges it, and the
+    // conservative advancement answers the same motions for comparison.
+    std::mt19937_64 rng(341);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const int n = cdkit::test::scaled(600, 60);
+    const std::vector<V> octahedron{V(1, 0.2, 0), V(-1, 0.3, 0.1),  V(0, 1, -0.2),
+                                    V(0.1, -1, 0.3), V(0.2, 0.1, 1), V(-0.3, 0, -1)};
+    int contacts = 0, sampled = 0, agree = 0;
+    for (int i = 0; i < n; ++i) {
+        const double sa = std::pow(10.0, -3 + 6 * unit(rng)), sb = std::pow(10.0, -3 + 6 * unit(rng));
+        const cdkit::Cone<double> a(0.6 * sa, 0.5 * sa);
+        const cdkit::Box<double> box(V(sb, 0.6 * sb, 0.3 * sb));
+        const double small = std::min(sa, sb), reach = sa + 1.2 * sb;
+        const V dir = cdkit::test::random_rotation<double>(rng).col(0);
+        const V side = cdkit::test::random_rotation<double>(rng).col(0) * (unit(rng) * reach);
+        const double travel = std::min(100 * small, 4 * reach) + 2 * reach;
+        const cdkit::Mat3<double> ra = cdkit::test::random_rotation<double>(rng), rb = cdkit::test::random_rotation<double>(rng);
+        const V drift = cdkit::test::random_rotation<double>(rng).col(0) * (sb * unit(rng));
+        const T a0(ra, -0.5 * travel * dir + side), a1(ra, 0.5 * travel * dir + side);
+        const T b0(rb, V::Zero()), b1(rb, drift);
+        auto check = [&](const auto& shape_b, double scale) {
+            const auto r = cdkit::convex_toi(a, a0, a1, shape_b, b0, b1);
+            REQUIRE(r.status == cdkit::QueryStatus::ok);
+            const auto ca = cdkit::detail::convex_toi_advancement(a, cdkit::detail::PoseMotion(a0, a1), shape_b,
+                                                                  cdkit::detail::PoseMotion(b0, b1), {});
+            const double first = sampled_first_contact(a, a0, a1, shape_b, b0, b1, 400);
+            contacts += r.colliding;
+            sampled += first <= 1;
+            agree += r.colliding == ca.colliding;
+            if (first <= 1) {
+                CAPTURE(i, sa, sb, first, r.toi, r.iterations);
+                REQUIRE(r.colliding);
+                CHECK(r.toi <= first);
+            }
+            if (r.colliding && !r.capped) {
+                const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
+                const auto g = cdkit::gjk_distance(a, ma.at(r.toi), shape_b, mb.at(r.toi));
+                CAPTURE(i, sa, sb, r.toi, g.distance);
+                CHECK((g.colliding || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * scale));
+                // The witness points are the shapes' points at toi, within the tolerance of each other.
+                CHECK((r.point_b - r.point_a).norm() <= 1e-6 + 1e-9 * scale);
+            }
+        };
+        check(box, reach);
+        std::vector<V> corners;
+        for (const V& p : octahedron) corners.push_back(sb * p);
+        check(cdkit::ConvexPolyhedron<double>(corners), reach);
+    }
+    CHECK(sampled > n / 2);
+    CHECK(contacts >= sampled);
+    CHECK(agree >= 2 * n - 2 * n / 100);  // the two methods differ only on grazes within the tolerance
 }
 
 TEST_CASE("convex TOI: bad poses and settings", "[ccd]") {

@@ -7,14 +7,18 @@
 /// Each shape's pose moves from `start` to `end`: its origin on a straight line, its rotation about one fixed
 /// axis of its own frame at a constant rate (R(t) = R0·exp(t·log(R0ᵀR1))). At time t GJK gives the distance d and
 /// the direction n from A to B. No point of A gains on B along n faster than
-///     μ = max(0, (v_A − v_B)·n) + |ω_A|·r_A + |ω_B|·r_B
-/// (v the origins' velocities, ω the angular velocities, r each shape's radius about its origin), and the
+///     μ = max(0, (v_A − v_B)·n) + |n × ω_A|·r_A + |n × ω_B|·r_B
+/// (v the origins' velocities, ω the angular velocities — fixed in the world frame, since each shape turns about one
+/// axis at a constant rate — and r each shape's radius about its origin: a point at r from the origin moves along n
+/// at n·(ω × r) = r·(n × ω)), and the
 /// distance is at least the gap along n, so the shapes cannot touch before t + d/μ: the query advances to there
 /// and repeats, and reports contact when d falls to the tolerance. Every step is a lower bound, so a contact is
 /// never skipped, whatever the shapes' sizes or speeds (only GJK's distance must be right, which it certifies).
-/// A pure translation (equal rotations at both ends) is the shape cast.
+/// A pure translation (equal rotations at both ends) is the shape cast: there a GJK ray cast (detail/gjk_ray_cast.hpp)
+/// answers the same question in one GJK loop instead of a distance query per step.
 
 #include "cdkit/ccd/ccd_result.hpp"
+#include "cdkit/ccd/detail/gjk_ray_cast.hpp"
 #include "cdkit/core/mesh.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 
@@ -66,6 +70,8 @@ struct PoseMotion {
         angle = std::abs(aa.angle());
         if (aa.angle() < 0) axis = -axis;
     }
+    /// Angular velocity in the world frame (constant: the axis turns with the shape, but R·axis does not).
+    [[nodiscard]] Vec3<double> omega() const { return start.R * axis * angle; }
     [[nodiscard]] Transform<double> at(double t) const {
         return {start.R * Eigen::AngleAxisd(t * angle, axis).toRotationMatrix(), start.t + t * velocity};
     }
@@ -93,15 +99,18 @@ struct AdvanceStep {
 }
 
 /// The advancement loop shared by the convex, the mesh–convex and the mesh–mesh time of impact. `distance_at(pa, pb)` answers
-/// at the poses of time t. With `separating_normal` (two convex shapes) the plane through the closest points
-/// orthogonal to n separates the whole shapes, so only the approach along n counts: (v_a − v_b)·n; otherwise
-/// (a mesh: the closest pair may switch to another part) any point may approach at up to |v_a − v_b|. Both add the
-/// rotations' |ω|·r. Every step is a lower bound on the first contact time.
+/// at the poses of time t; `radius_a`, `radius_b` bound each object's points' distance from its origin. With
+/// `separating_normal` (two convex shapes) the plane through the closest points orthogonal to n separates the whole
+/// shapes, so only the approach along n counts: (v_a − v_b)·n + |n × ω_a|·r_a + |n × ω_b|·r_b; otherwise (a mesh:
+/// the closest pair may switch to another part) any point may approach at up to |v_a − v_b| + |ω_a|·r_a +
+/// |ω_b|·r_b. Every step is a lower bound on the first contact time.
 template <class DistanceAt>
-[[nodiscard]] ToiResult advance(const PoseMotion& ma, const PoseMotion& mb, double spin, bool separating_normal,
-                                const ToiRequest& request, DistanceAt&& distance_at) {
+[[nodiscard]] ToiResult advance(const PoseMotion& ma, const PoseMotion& mb, double radius_a, double radius_b,
+                                bool separating_normal, const ToiRequest& request, DistanceAt&& distance_at) {
     ToiResult out;
     const double sweep = (ma.velocity - mb.velocity).norm();
+    const Vec3<double> omega_a = ma.omega(), omega_b = mb.omega();
+    const double spin = ma.angle * radius_a + mb.angle * radius_b;
     double t = 0;
     for (out.iterations = 1; out.iterations <= request.max_iterations; ++out.iterations) {
         const AdvanceStep g = distance_at(ma.at(t), mb.at(t));
@@ -114,7 +123,9 @@ template <class DistanceAt>
         // The distances hold to a relative tolerance of their query; the advancement uses a slightly smaller one.
         const double d = g.distance * (1 - 1e-8) - request.tolerance * 0.5;
         const double approach =
-            (separating_normal ? std::max(0.0, (ma.velocity - mb.velocity).dot(g.normal)) : sweep) + spin;
+            separating_normal ? std::max(0.0, (ma.velocity - mb.velocity).dot(g.normal)) +
+                                    g.normal.cross(omega_a).norm() * radius_a + g.normal.cross(omega_b).norm() * radius_b
+                              : sweep + spin;
         if (!(approach > 0)) {  // nothing gains on anything: the gap never closes
             out.toi = 1;
             return out;
@@ -141,8 +152,53 @@ template <class DistanceAt>
 
 }  // namespace detail
 
+namespace detail {
+
+/// convex_toi by conservative advancement (any motion; convex_toi takes it when a shape turns).
+template <SupportMapped A, SupportMapped B>
+[[nodiscard]] ToiResult convex_toi_advancement(const A& a, const PoseMotion& ma, const B& b, const PoseMotion& mb,
+                                               const ToiRequest& request) {
+    GjkCache<double> cache;
+    return advance(ma, mb, radius_about_origin(a), radius_about_origin(b), true, request,
+                   [&](const Transform<double>& pa, const Transform<double>& pb) {
+                       const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
+                       return AdvanceStep{g.colliding || g.status == GjkStatus::max_iterations ||
+                                              g.status == GjkStatus::degenerate,
+                                          g.distance, g.point_a, g.point_b, g.normal};
+                   });
+}
+
+/// convex_toi when neither shape turns (the shape cast): a GJK ray cast of the relative motion r = v_B − v_A
+/// against A − B at the start poses (A(t) − B(t) = A − B − t·r holds the origin exactly when t·r is in A − B).
+template <SupportMapped A, SupportMapped B>
+[[nodiscard]] ToiResult convex_shape_cast(const A& a, const PoseMotion& ma, const B& b, const PoseMotion& mb,
+                                          const ToiRequest& request) {
+    const Transform<double>&pa = ma.start, &pb = mb.start;
+    const Vec3<double> r = mb.velocity - ma.velocity;
+    Vec3<double> start = pb.t - pa.t;  // from a point of A − B (its origins' difference) towards x = 0
+    if (!(start.squaredNorm() > 0)) start = r.squaredNorm() > 0 ? Vec3<double>(-r) : Vec3<double>::UnitX();
+    const GjkRayCastResult c = gjk_ray_cast(
+        [&](const Vec3<double>& d, Vec3<double>& sa, Vec3<double>& sb) {
+            sa = pa.R * a.support(pa.R.transpose() * d) + pa.t;
+            sb = pb.R * b.support(pb.R.transpose() * -d) + pb.t;
+        },
+        r, start, 1.0, request.tolerance, request.max_iterations);
+    ToiResult out;
+    out.iterations = c.iterations;
+    out.capped = c.end == GjkRayCastResult::End::capped;
+    out.colliding = c.end != GjkRayCastResult::End::miss;
+    out.toi = out.colliding ? c.lambda : 1.0;
+    out.point_a = c.point_a + c.lambda * ma.velocity;
+    out.point_b = c.point_b + c.lambda * mb.velocity;
+    out.normal = c.normal;
+    return out;
+}
+
+}  // namespace detail
+
 /// First time in [0, 1] at which `a` (moving from pose a_start to a_end) and `b` (b_start to b_end) come within
-/// request.tolerance, by conservative advancement on GJK distance with a warm-started cache. Const, thread-safe.
+/// request.tolerance: by conservative advancement on GJK distance with a warm-started cache when either shape
+/// turns, by a GJK ray cast when both only translate (the shape cast). Const, thread-safe.
 template <SupportMapped A, SupportMapped B>
     requires std::same_as<typename A::Scalar, double> && std::same_as<typename B::Scalar, double>
 [[nodiscard]] ToiResult convex_toi(const A& a, const Transform<double>& a_start, const Transform<double>& a_end,
@@ -152,14 +208,8 @@ template <SupportMapped A, SupportMapped B>
     out.status = detail::toi_inputs_usable({&a_start, &a_end, &b_start, &b_end}, request);
     if (out.status != QueryStatus::ok) return out;
     const detail::PoseMotion ma(a_start, a_end), mb(b_start, b_end);
-    const double spin = ma.angle * detail::radius_about_origin(a) + mb.angle * detail::radius_about_origin(b);
-    GjkCache<double> cache;
-    return detail::advance(ma, mb, spin, true, request, [&](const Transform<double>& pa, const Transform<double>& pb) {
-        const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
-        return detail::AdvanceStep{g.colliding || g.status == GjkStatus::max_iterations ||
-                                       g.status == GjkStatus::degenerate,
-                                   g.distance, g.point_a, g.point_b, g.normal};
-    });
+    if (ma.angle == 0 && mb.angle == 0) return detail::convex_shape_cast(a, ma, b, mb, request);
+    return detail::convex_toi_advancement(a, ma, b, mb, request);
 }
 
 }  // namespace cdkit

@@ -31,9 +31,9 @@ template <class BV, SupportMapped C>
     out.status = detail::toi_inputs_usable({&mesh_start, &mesh_end, &shape_start, &shape_end}, request);
     if (out.status != QueryStatus::ok) return out;
     const detail::PoseMotion mm(mesh_start, mesh_end), ms(shape_start, shape_end);
-    const double spin = mm.angle * detail::turning_radius(mesh.mesh(), mm) + ms.angle * detail::radius_about_origin(shape);
     bool bad_input = false;
-    ToiResult r = detail::advance(mm, ms, spin, false, request, [&](const Transform<double>& pm, const Transform<double>& pc) {
+    const double mesh_radius = detail::turning_radius(mesh.mesh(), mm), shape_radius = detail::radius_about_origin(shape);
+    ToiResult r = detail::advance(mm, ms, mesh_radius, shape_radius, false, request, [&](const Transform<double>& pm, const Transform<double>& pc) {
         const MeshConvexDistanceResult<double> d = distance(mesh, pm, shape, pc);
         detail::AdvanceStep step;
         if (d.status != QueryStatus::ok) {  // a shape with non-finite sizes: stop, answered below

@@ -26,8 +26,8 @@ template <class BV>
     out.status = detail::toi_inputs_usable({&a_start, &a_end, &b_start, &b_end}, request);
     if (out.status != QueryStatus::ok) return out;
     const detail::PoseMotion ma(a_start, a_end), mb(b_start, b_end);
-    const double spin = ma.angle * detail::turning_radius(a.mesh(), ma) + mb.angle * detail::turning_radius(b.mesh(), mb);
-    return detail::advance(ma, mb, spin, false, request, [&](const Transform<double>& pa, const Transform<double>& pb) {
+    const double radius_a = detail::turning_radius(a.mesh(), ma), radius_b = detail::turning_radius(b.mesh(), mb);
+    return detail::advance(ma, mb, radius_a, radius_b, false, request, [&](const Transform<double>& pa, const Transform<double>& pb) {
         const DistanceResult<double> d = distance(a, pa, b, pb);
         detail::AdvanceStep step;
         step.contact = d.status != QueryStatus::ok || d.distance == 0;
