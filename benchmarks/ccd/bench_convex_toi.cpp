@@ -19,7 +19,9 @@
 // the first contact). A method misses a certain contact when it reports none, and is late when its time of contact
 // comes after s.
 // Accuracy: how early each reported time is, s − toi (median and max over the certain contacts it reported).
-// Timing: the first M pairs of each class, each query warm (one untimed run, then the fastest of 3). Rows:
+// Each pair is drawn from its own generator (seeded by the seed, the class and its index), so the counts do not
+// depend on threads: the first M pairs of each class run one by one and are timed, each query warm (one untimed
+// run, then the fastest of 3); the others only count, on every core (TBB). Rows:
 //   cdkit convex_toi         the default tolerance (1e-6, absolute distance): a GJK ray cast for translations,
 //                            conservative advancement when a shape turns;
 //   cdkit advancement        conservative advancement for translations too (the ray cast off);
@@ -35,6 +37,11 @@
 #include <cdkit/narrowphase/convex_shapes.hpp>
 
 #include <fcl/fcl.h>
+#if defined(CDKIT_HAS_TBB)
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -139,6 +146,26 @@ struct Tally {
     std::vector<double> us;
     std::vector<double> early;  ///< reference contact time − reported time, over certain contacts the method reported
     double late_by = 0;         ///< the largest reported time after the reference contact time
+    void add(const Tally& o) {
+        contacts += o.contacts, missed += o.missed, late += o.late, capped += o.capped;
+        us.insert(us.end(), o.us.begin(), o.us.end());
+        early.insert(early.end(), o.early.begin(), o.early.end());
+        late_by = std::max(late_by, o.late_by);
+    }
+};
+
+/// Every method's tally over a class, and the certain contacts.
+struct Sums {
+    Tally tallies[5] = {{"cdkit convex_toi"},
+                        {"cdkit advancement"},
+                        {"cdkit convex_toi, FCL's stop"},
+                        {"FCL CA libccd"},
+                        {"FCL CA indep"}};
+    long certain = 0;
+    void add(const Sums& o) {
+        for (int m = 0; m < 5; ++m) tallies[m].add(o.tallies[m]);
+        certain += o.certain;
+    }
 };
 
 }  // namespace
@@ -184,142 +211,154 @@ int main(int argc, char** argv) try {
                 "certain", "contacts", "missed", "late", "capped", "median_us", "p99_us", "max_us", "FCL/x",
                 "med_early", "max_early", "max_late");
     for (const bool rotate : {false, true}) {
-        std::mt19937_64 rng(seed + (rotate ? 1 : 0));
-        Tally tallies[] = {{"cdkit convex_toi"},
-                           {"cdkit advancement"},
-                           {"cdkit convex_toi, FCL's stop"},
-                           {"FCL CA libccd"},
-                           {"FCL CA indep"}};
-        long certain = 0, redrawn = 0;
-        for (long k = 0; k < pairs; ++k) {
-            // Shapes.
-            const int ka = int(unit(rng) * 6), kb = int(unit(rng) * 6);
-            const Hull* ha = &hulls[std::size_t(unit(rng) * double(hulls.size()))];
-            const Hull* hb = &hulls[std::size_t(unit(rng) * double(hulls.size()))];
-            const double sa = ka == 5 ? ha->size : std::pow(10.0, -3 + 6 * unit(rng));
-            const double sb = kb == 5 ? hb->size : std::pow(10.0, -3 + 6 * unit(rng));
-            const auto shape_a = make_shape(ka, sa, ha), shape_b = make_shape(kb, sb, hb);
-            const Shape &a = shape_a.first, &b = shape_b.first;
-            const auto &fa = shape_a.second, &fb = shape_b.second;
-            const double small = std::min(sa, sb);
+        // One pair of draw k (its own generator, so the answers do not depend on threads or order), redrawn until
+        // the shapes start apart; its answers added to `sums`.
+        auto one_pair = [&](long k, bool time_it, Sums& sums) {
+            std::seed_seq seq{seed, std::uint64_t(rotate), std::uint64_t(k)};
+            std::mt19937_64 rng(seq);
+            std::uniform_real_distribution<double> unit(0, 1);
+            for (;;) {
+                // Shapes.
+                const int ka = int(unit(rng) * 6), kb = int(unit(rng) * 6);
+                const Hull* ha = &hulls[std::size_t(unit(rng) * double(hulls.size()))];
+                const Hull* hb = &hulls[std::size_t(unit(rng) * double(hulls.size()))];
+                const double sa = ka == 5 ? ha->size : std::pow(10.0, -3 + 6 * unit(rng));
+                const double sb = kb == 5 ? hb->size : std::pow(10.0, -3 + 6 * unit(rng));
+                const auto shape_a = make_shape(ka, sa, ha), shape_b = make_shape(kb, sb, hb);
+                const Shape &a = shape_a.first, &b = shape_b.first;
+                const auto &fa = shape_a.second, &fb = shape_b.second;
+                const double small = std::min(sa, sb);
 
-            // Motion: A's origin passes a point q near B's surface (B's support point along a random direction, in
-            // B's frame at the crossing instant) at time tc, heading inwards, travelling 0.1 … 100 small sizes.
-            const cdkit::Mat3<double> ra0 = random_rotation(rng), rb0 = random_rotation(rng);
-            const cdkit::Mat3<double> ra1 =
-                rotate ? cdkit::Mat3<double>(Eigen::AngleAxisd(M_PI * unit(rng), random_rotation(rng).col(0)) * ra0)
-                       : ra0;
-            const cdkit::Mat3<double> rb1 =
-                rotate ? cdkit::Mat3<double>(Eigen::AngleAxisd(M_PI * unit(rng), random_rotation(rng).col(0)) * rb0)
-                       : rb0;
-            const V bt0 = random_rotation(rng).col(0) * (sb * unit(rng) * 4);
-            const V bt1 = bt0 + random_rotation(rng).col(0) * (sb * unit(rng));
-            const double tc = unit(rng);
-            const V d = random_rotation(rng).col(0);
-            const T b_tc = cdkit::detail::PoseMotion(T(rb0, bt0), T(rb1, bt1)).at(tc);
-            const V q = visit_shape(b, [&](const auto& s) { return V(b_tc.R * s.support(b_tc.R.transpose() * d)); });
-            const V qw = q + b_tc.t + random_rotation(rng).col(0) * (sa * unit(rng));
-            V u = random_rotation(rng).col(0);
-            if (u.dot(d) > 0) u = -u;
-            const double travel = small * std::pow(10.0, -1 + 3 * unit(rng));
-            const V at0 = qw - tc * travel * u, at1 = qw + (1 - tc) * travel * u;
-            const T a0(ra0, at0), a1(ra1, at1), b0(rb0, bt0), b1(rb1, bt1);
-            {
-                // Every pair starts apart: a contact at t = 0 is a discrete test, not a time of impact.
-                fcl::CollisionRequestd req;
-                fcl::CollisionResultd res;
-                if (fcl::collide(fa.get(), to_fcl(a0), fb.get(), to_fcl(b0), req, res) > 0) {
-                    ++redrawn;
-                    --k;
-                    continue;
+                // Motion: A's origin passes a point q near B's surface (B's support point along a random direction, in
+                // B's frame at the crossing instant) at time tc, heading inwards, travelling 0.1 … 100 small sizes.
+                const cdkit::Mat3<double> ra0 = random_rotation(rng), rb0 = random_rotation(rng);
+                const cdkit::Mat3<double> ra1 =
+                    rotate ? cdkit::Mat3<double>(Eigen::AngleAxisd(M_PI * unit(rng), random_rotation(rng).col(0)) * ra0)
+                           : ra0;
+                const cdkit::Mat3<double> rb1 =
+                    rotate ? cdkit::Mat3<double>(Eigen::AngleAxisd(M_PI * unit(rng), random_rotation(rng).col(0)) * rb0)
+                           : rb0;
+                const V bt0 = random_rotation(rng).col(0) * (sb * unit(rng) * 4);
+                const V bt1 = bt0 + random_rotation(rng).col(0) * (sb * unit(rng));
+                const double tc = unit(rng);
+                const V d = random_rotation(rng).col(0);
+                const T b_tc = cdkit::detail::PoseMotion(T(rb0, bt0), T(rb1, bt1)).at(tc);
+                const V q = visit_shape(b, [&](const auto& s) { return V(b_tc.R * s.support(b_tc.R.transpose() * d)); });
+                const V qw = q + b_tc.t + random_rotation(rng).col(0) * (sa * unit(rng));
+                V u = random_rotation(rng).col(0);
+                if (u.dot(d) > 0) u = -u;
+                const double travel = small * std::pow(10.0, -1 + 3 * unit(rng));
+                const V at0 = qw - tc * travel * u, at1 = qw + (1 - tc) * travel * u;
+                const T a0(ra0, at0), a1(ra1, at1), b0(rb0, bt0), b1(rb1, bt1);
+                {
+                    // Every pair starts apart: a contact at t = 0 is a discrete test, not a time of impact.
+                    fcl::CollisionRequestd req;
+                    fcl::CollisionResultd res;
+                    if (fcl::collide(fa.get(), to_fcl(a0), fb.get(), to_fcl(b0), req, res) > 0) continue;
                 }
-            }
 
-            // Reference: FCL's discrete collide at 17 instants and at tc; the first instant it sees an overlap is
-            // narrowed by bisection against the last instant before it without one (poses by the bench's own
-            // interpolation, below).
-            auto seen_at = [&](double t) {
-                fcl::CollisionRequestd req;
-                fcl::CollisionResultd res;
-                return fcl::collide(fa.get(), to_fcl(pose_at(a0, a1, t)), fb.get(), to_fcl(pose_at(b0, b1, t)), req,
-                                    res) > 0;
-            };
-            double first_seen = 2, clear_before = 0;
-            for (int i = 1; i <= 16 && first_seen > 1; ++i) {
-                if (seen_at(i / 16.0)) first_seen = i / 16.0;
-                else clear_before = i / 16.0;
-            }
-            if (tc > clear_before && tc < first_seen && seen_at(tc)) first_seen = tc;
-            if (first_seen <= 1) {
-                for (int i = 0; i < 48 && first_seen - clear_before > 1e-15; ++i) {
-                    const double mid = 0.5 * (clear_before + first_seen);
-                    (seen_at(mid) ? first_seen : clear_before) = mid;
-                }
-                ++certain;
-            }
-
-            // The four methods.
-            const double spin = cdkit::detail::PoseMotion(a0, a1).angle *
-                                    visit_shape(a, [](const auto& s) { return cdkit::detail::radius_about_origin(s); }) +
-                                cdkit::detail::PoseMotion(b0, b1).angle *
-                                    visit_shape(b, [](const auto& s) { return cdkit::detail::radius_about_origin(s); });
-            const double bound = ((a1.t - a0.t) - (b1.t - b0.t)).norm() + spin;
-            cdkit::ToiRequest fcl_stop;
-            fcl_stop.tolerance = std::max(1e-4 * bound, 1e-300);
-            const bool time_it = k < timed;
-            for (int m = 0; m < 5; ++m) {
-                Tally& tally = tallies[m];
-                Answer ans;
-                bool capped = false;
-                auto run = [&] {
-                    if (m < 3) {
-                        const cdkit::ToiResult r = visit_shape(a, [&](const auto& x) {
-                            return visit_shape(b, [&](const auto& y) {
-                                if (m == 1)
-                                    return cdkit::detail::convex_toi_advancement(x, cdkit::detail::PoseMotion(a0, a1), y,
-                                                                                 cdkit::detail::PoseMotion(b0, b1), {});
-                                return cdkit::convex_toi(x, a0, a1, y, b0, b1, m == 0 ? cdkit::ToiRequest{} : fcl_stop);
-                            });
-                        });
-                        ans = {r.colliding, r.toi};
-                        capped = r.capped;
-                    } else {
-                        fcl::ContinuousCollisionRequestd req;
-                        req.ccd_solver_type = fcl::CCDC_CONSERVATIVE_ADVANCEMENT;
-                        req.ccd_motion_type = rotate ? fcl::CCDM_LINEAR : fcl::CCDM_TRANS;
-                        req.gjk_solver_type = m == 3 ? fcl::GST_LIBCCD : fcl::GST_INDEP;
-                        fcl::ContinuousCollisionResultd res;
-                        if (rotate) {
-                            // FCL's CCDM_LINEAR builds InterpMotion(tf1, tf2), which leaves its reference point
-                            // uninitialised (fcl#662): the motions are built here with the reference point at the
-                            // origin, the motion both sides are asked about.
-                            const fcl::InterpMotion<double> ma(a0.R, a0.t, a1.R, a1.t, V::Zero()),
-                                mb(b0.R, b0.t, b1.R, b1.t, V::Zero());
-                            fcl::continuousCollide<double>(fa.get(), &ma, fb.get(), &mb, req, res);
-                        } else {
-                            fcl::continuousCollide(fa.get(), to_fcl(a0), to_fcl(a1), fb.get(), to_fcl(b0),
-                                                   to_fcl(b1), req, res);
-                        }
-                        ans = {res.is_collide, res.is_collide ? res.time_of_contact : 1.0};
-                    }
+                // Reference: FCL's discrete collide at 17 instants and at tc; the first instant it sees an overlap is
+                // narrowed by bisection against the last instant before it without one (poses by the bench's own
+                // interpolation, below).
+                auto seen_at = [&](double t) {
+                    fcl::CollisionRequestd req;
+                    fcl::CollisionResultd res;
+                    return fcl::collide(fa.get(), to_fcl(pose_at(a0, a1, t)), fb.get(), to_fcl(pose_at(b0, b1, t)), req,
+                                        res) > 0;
                 };
-                if (time_it) tally.us.push_back(best_us(run));
-                else run();
-                tally.contacts += ans.colliding;
-                tally.capped += capped;
+                double first_seen = 2, clear_before = 0;
+                for (int i = 1; i <= 16 && first_seen > 1; ++i) {
+                    if (seen_at(i / 16.0)) first_seen = i / 16.0;
+                    else clear_before = i / 16.0;
+                }
+                if (tc > clear_before && tc < first_seen && seen_at(tc)) first_seen = tc;
                 if (first_seen <= 1) {
-                    tally.missed += !ans.colliding;
-                    tally.late += ans.colliding && ans.toi > first_seen;
+                    for (int i = 0; i < 48 && first_seen - clear_before > 1e-15; ++i) {
+                        const double mid = 0.5 * (clear_before + first_seen);
+                        (seen_at(mid) ? first_seen : clear_before) = mid;
+                    }
+                    ++sums.certain;
                 }
-                if (first_seen <= 1 && ans.colliding) {
-                    tally.early.push_back(std::max(0.0, first_seen - ans.toi));
-                    tally.late_by = std::max(tally.late_by, ans.toi - first_seen);
+
+                // The four methods.
+                const double spin = cdkit::detail::PoseMotion(a0, a1).angle *
+                                        visit_shape(a, [](const auto& s) { return cdkit::detail::radius_about_origin(s); }) +
+                                    cdkit::detail::PoseMotion(b0, b1).angle *
+                                        visit_shape(b, [](const auto& s) { return cdkit::detail::radius_about_origin(s); });
+                const double bound = ((a1.t - a0.t) - (b1.t - b0.t)).norm() + spin;
+                cdkit::ToiRequest fcl_stop;
+                fcl_stop.tolerance = std::max(1e-4 * bound, 1e-300);
+                for (int m = 0; m < 5; ++m) {
+                    Tally& tally = sums.tallies[m];
+                    Answer ans;
+                    bool capped = false;
+                    auto run = [&] {
+                        if (m < 3) {
+                            const cdkit::ToiResult r = visit_shape(a, [&](const auto& x) {
+                                return visit_shape(b, [&](const auto& y) {
+                                    if (m == 1)
+                                        return cdkit::detail::convex_toi_advancement(x, cdkit::detail::PoseMotion(a0, a1), y,
+                                                                                     cdkit::detail::PoseMotion(b0, b1), {});
+                                    return cdkit::convex_toi(x, a0, a1, y, b0, b1, m == 0 ? cdkit::ToiRequest{} : fcl_stop);
+                                });
+                            });
+                            ans = {r.colliding, r.toi};
+                            capped = r.capped;
+                        } else {
+                            fcl::ContinuousCollisionRequestd req;
+                            req.ccd_solver_type = fcl::CCDC_CONSERVATIVE_ADVANCEMENT;
+                            req.ccd_motion_type = rotate ? fcl::CCDM_LINEAR : fcl::CCDM_TRANS;
+                            req.gjk_solver_type = m == 3 ? fcl::GST_LIBCCD : fcl::GST_INDEP;
+                            fcl::ContinuousCollisionResultd res;
+                            if (rotate) {
+                                // FCL's CCDM_LINEAR builds InterpMotion(tf1, tf2), which leaves its reference point
+                                // uninitialised (fcl#662): the motions are built here with the reference point at the
+                                // origin, the motion both sides are asked about.
+                                const fcl::InterpMotion<double> ma(a0.R, a0.t, a1.R, a1.t, V::Zero()),
+                                    mb(b0.R, b0.t, b1.R, b1.t, V::Zero());
+                                fcl::continuousCollide<double>(fa.get(), &ma, fb.get(), &mb, req, res);
+                            } else {
+                                fcl::continuousCollide(fa.get(), to_fcl(a0), to_fcl(a1), fb.get(), to_fcl(b0),
+                                                       to_fcl(b1), req, res);
+                            }
+                            ans = {res.is_collide, res.is_collide ? res.time_of_contact : 1.0};
+                        }
+                    };
+                    if (time_it) tally.us.push_back(best_us(run));
+                    else run();
+                    tally.contacts += ans.colliding;
+                    tally.capped += capped;
+                    if (first_seen <= 1) {
+                        tally.missed += !ans.colliding;
+                        tally.late += ans.colliding && ans.toi > first_seen;
+                    }
+                    if (first_seen <= 1 && ans.colliding) {
+                        tally.early.push_back(std::max(0.0, first_seen - ans.toi));
+                        tally.late_by = std::max(tally.late_by, ans.toi - first_seen);
+                    }
                 }
+                return;
             }
-        }
+        };
+        Sums total;
+        for (long k = 0; k < std::min(timed, pairs); ++k) one_pair(k, true, total);
+        // The untimed pairs on every core: they only count.
+#if defined(CDKIT_HAS_TBB)
+        tbb::enumerable_thread_specific<Sums> partial;
+        tbb::parallel_for(tbb::blocked_range<long>(std::min(timed, pairs), pairs), [&](const tbb::blocked_range<long>& r) {
+            Sums& mine = partial.local();
+            for (long k = r.begin(); k != r.end(); ++k) one_pair(k, false, mine);
+        });
+        for (const Sums& p : partial) total.add(p);
+#else
+        for (long k = std::min(timed, pairs); k < pairs; ++k) one_pair(k, false, total);
+#endif
+        const long certain = total.certain;
+        const Tally* tallies = total.tallies;
         const char* motion = rotate ? "rotation" : "translation";
         const double fcl_median = median(tallies[3].us);
-        for (const Tally& t : tallies) {
+        for (int m = 0; m < 5; ++m) {
+            const Tally& t = tallies[m];
             const double med = median(t.us), p99 = percentile(t.us, 0.99);
             const double mx = t.us.empty() ? 0 : *std::max_element(t.us.begin(), t.us.end());
             const double ratio = med > 0 ? fcl_median / med : 0;

@@ -210,6 +210,13 @@ void init_core(py::module_& m) {
             error(e.what());
         }
     });
+    // A failed CDKIT_ASSERT (an internal invariant, e.g. in a tree build) must not abort the interpreter: in the
+    // module it raises cdkit.Error naming the check. Its call sites are construction paths, which may throw.
+    set_assert_handler([](const char* expr, const char* msg, const char* file, int line) {
+        throw Error(std::string(file) + ":" + std::to_string(line), std::string("internal check ") + expr, msg);
+    });
+    m.def("_fail_assert_for_test", [] { CDKIT_ASSERT(false, "a test of the assert handler"); },
+          "Fails a CDKIT_ASSERT, to test that it raises cdkit.Error (internal).");
 
     py::enum_<QueryStatus>(m, "QueryStatus", "Outcome of a mesh, IST, CCD or ray query's input check.")
         .value("ok", QueryStatus::ok)

@@ -105,3 +105,11 @@ def test_wrong_types():
         cdkit.collide(cdkit.Sphere(1.0), None, m, None)
     with pytest.raises(ValueError, match="bv"):
         cdkit.MeshModel(*cube(), bv="octree")
+
+
+def test_failed_internal_check_raises_instead_of_aborting():
+    # A CDKIT_ASSERT would abort a C++ program; the module installs a handler that raises cdkit.Error instead.
+    with pytest.raises(cdkit.Error, match=r"internal check false: a test of the assert handler"):
+        cdkit._cdkit._fail_assert_for_test()
+    # The interpreter and the module go on working.
+    assert cdkit.Sphere(1.0) is not None

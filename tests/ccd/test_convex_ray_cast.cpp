@@ -198,3 +198,28 @@ TEST_CASE("convex ray cast: a hull by its face planes, starts inside, thin shape
     bad.tolerance = -1;
     CHECK(ray_cast(plate, T{}, down, bad).status == QueryStatus::invalid_input);
 }
+
+TEST_CASE("convex ray cast: a ray passing within half the tolerance of a shape hits it, one beyond it misses",
+          "[ccd][ray]") {
+    // The cast first clips the ray to the shape's bounding ball; for a sphere that ball is the shape itself, so the
+    // ball must be grown by the tolerance or grazing rays would be missed. Between half the tolerance and the
+    // tolerance either answer is allowed (the cast steps past a support plane while it is over tolerance / 2 away).
+    const cdkit::Sphere<double> ball(1.0);
+    const T pose = T::translation(V(5, -2, 3));
+    cdkit::ConvexRayRequest request;
+    request.tolerance = 1e-6;
+    for (const double gap : {0.0, 0.4e-6, 0.9e-6, 1.5e-6, 3e-6}) {
+        cdkit::Ray ray;
+        ray.origin = pose.t + V(-10, 1 + gap, 0);
+        ray.direction = V(2, 0, 0);
+        const cdkit::RayCastResult r = cdkit::ray_cast(ball, pose, ray, request);
+        CAPTURE(gap);
+        REQUIRE(r.status == cdkit::QueryStatus::ok);
+        if (gap < 0.5 * request.tolerance) CHECK(r.hit);
+        if (gap > request.tolerance) CHECK_FALSE(r.hit);
+        if (r.hit) {
+            CHECK(r.hits[0].t <= 5.0);  // never after the tangent point, at x = pose.x: t = 10 / 2
+            CHECK(std::abs(r.hits[0].point.y() - pose.t.y()) <= 1 + gap + 1e-12);
+        }
+    }
+}

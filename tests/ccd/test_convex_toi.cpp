@@ -139,6 +139,26 @@ TEST_CASE("shape cast: translating pairs of every size ratio never tunnel, hit w
     CHECK(agree >= 2 * n - 2 * n / 100);  // the two methods differ only on grazes within the tolerance
 }
 
+TEST_CASE("convex TOI: a shape's radius about its rotation axis bounds its points' distance from that axis", "[ccd]") {
+    const cdkit::Box<double> box(V(1, 2, 3));
+    CHECK(cdkit::detail::radius_about_axis(box, V::UnitZ()) == Approx(std::sqrt(5.0)).epsilon(1e-9));
+    CHECK(cdkit::detail::radius_about_axis(box, V::UnitX()) == Approx(std::sqrt(13.0)).epsilon(1e-9));
+    CHECK(cdkit::detail::radius_about_origin(box) == Approx(std::sqrt(14.0)).epsilon(1e-9));
+    // A capsule turning about its own axis moves its points no faster than its radius says.
+    const cdkit::Capsule<double> capsule(0.25, 2.0);
+    CHECK(cdkit::detail::radius_about_axis(capsule, V::UnitZ()) == Approx(0.25 * std::sqrt(2.0)).epsilon(1e-9));
+    // Over random axes it never undercuts a sampled surface point's distance from the axis.
+    std::mt19937_64 rng(7);
+    for (int i = 0; i < 200; ++i) {
+        const V axis = cdkit::test::random_rotation<double>(rng).col(0);
+        const double r = cdkit::detail::radius_about_axis(capsule, axis);
+        for (int j = 0; j < 20; ++j) {
+            const V p = capsule.support(cdkit::test::random_rotation<double>(rng).col(0));
+            CHECK((p - p.dot(axis) * axis).norm() <= r);
+        }
+    }
+}
+
 TEST_CASE("convex TOI: bad poses and settings", "[ccd]") {
     const cdkit::Sphere<double> a(1.0);
     T bad;

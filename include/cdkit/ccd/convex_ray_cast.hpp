@@ -1,16 +1,18 @@
 #pragma once
-/// \file Ray cast against a support-mapped convex shape: the shape cast of a point, by conservative advancement
-/// (B. Mirtich, PhD thesis, UC Berkeley 1996; for rays and GJK see G. van den Bergen, "Ray Casting against General
-/// Convex Objects with Application to Continuous Collision Detection", 2004, who advances the same way along the
-/// ray with the support-plane bound).
+/// \file Ray cast against a support-mapped convex shape: a GJK ray cast (G. van den Bergen, "Ray Casting against
+/// General Convex Objects with Application to Continuous Collision Detection", 2004; ccd/detail/gjk_ray_cast.hpp),
+/// the same loop convex_toi's shape cast runs.
 ///
-/// The ray's point x(t) = origin + t·direction moves towards the shape; GJK gives its distance d to the shape and
-/// the direction n from the point to its closest point. No point of the shape is nearer along n than d, and x
-/// gains on the shape along n at most at rate direction·n per unit of t, so nothing is hit before t + d/(direction·n):
-/// the cast advances there and repeats until d is within the tolerance (a hit, never later than the true one) or
-/// direction·n ≤ 0 (the ray moves away from a separating plane: a miss). Every step is certified by GJK's distance,
-/// so a ray never passes through a shape, however thin.
+/// The ray's point x(t) = origin + t·direction moves towards the shape. First the ray is clipped to the shape's
+/// bounding ball about its origin (a ray that misses the ball misses the shape; one that starts far away starts at
+/// the ball). Then one GJK loop on the shape minus the ray's start: whenever the shape's support plane along the
+/// current direction has x in front of it, t jumps to that plane (a lower bound: the shape lies behind it), until x is
+/// within the tolerance of the shape (a hit, never later than the true one) or x runs parallel to or away from a
+/// separating plane (a miss). Every advance is a support plane of the shape, so a ray never passes through a shape,
+/// however thin.
 
+#include "cdkit/ccd/convex_toi.hpp"
+#include "cdkit/ccd/detail/gjk_ray_cast.hpp"
 #include "cdkit/ccd/ray_cast.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
 
@@ -20,29 +22,19 @@
 namespace cdkit {
 
 struct ConvexRayRequest {
-    /// A hit when the ray's point comes within this distance of the shape (absolute, > 0). The reported t is never
-    /// later than the first exact contact; for a ray meeting the surface at angle θ it is earlier by at most about
-    /// tolerance / (|direction|·sin θ).
+    /// A hit when the ray's point comes within this distance of the shape (absolute, > 0): always when it comes
+    /// within half of it (the cast steps past a support plane while the point is more than tolerance / 2 in front),
+    /// not when it stays farther than it (unless `capped`). The reported t is never later than the first exact
+    /// contact; for a ray meeting the surface at angle θ it is earlier by at most about tolerance / (|direction|·sin θ).
     double tolerance = 1e-9;
-    int max_iterations = 256;  ///< advancement steps before the cast gives up (then `capped`, a hit is assumed)
+    int max_iterations = 256;  ///< GJK iterations before the cast gives up (then `capped`, a hit is assumed)
 };
-
-namespace detail {
-
-/// A point at the origin of its frame: the ray's moving point as a shape GJK can take.
-struct RayPoint {
-    using Scalar = double;
-    [[nodiscard]] Vec3<double> support(const Vec3<double>&) const noexcept { return Vec3<double>::Zero(); }
-    [[nodiscard]] Vec3<double> center() const noexcept { return Vec3<double>::Zero(); }
-};
-
-}  // namespace detail
 
 /// Casts `ray` (world) against `shape` placed by `pose`: the first t in [t_min, t_max] at which the ray's point
 /// comes within request.tolerance of the shape (`RayMode` does not apply: a convex shape is entered once). The hit
 /// has t, point (on the ray), normal (unit, the shape's outward direction towards the ray's point there; for a ray
-/// starting inside, the reversed direction) and triangle = u = v = 0; `triangle_tests` counts the GJK distance
-/// queries. Status invalid_pose / invalid_input for a pose that is not a
+/// starting inside, the reversed direction) and triangle = u = v = 0; `triangle_tests` counts the ray cast's GJK
+/// iterations. Status invalid_pose / invalid_input for a pose that is not a
 /// rigid motion, a NaN or zero direction, NaN bounds or bad settings. Const, noexcept, thread-safe.
 template <SupportMapped A>
     requires std::same_as<typename A::Scalar, double>
@@ -60,41 +52,34 @@ template <SupportMapped A>
         out.status = QueryStatus::invalid_input;
         return out;
     }
-    const detail::RayPoint point;
-    GjkCache<double> cache;
-    double t = std::max(ray.t_min, -std::numeric_limits<double>::max());
-    if (!(t <= ray.t_max)) return out;
-    for (int it = 0; it < request.max_iterations; ++it) {
-        Transform<double> at;
-        at.t = ray.origin + t * ray.direction;
-        if (!at.t.allFinite()) return out;  // the ray ran past the range of doubles without reaching the shape
-        const GjkResult<double> g = gjk_distance(point, at, shape, pose, &cache);
-        ++out.triangle_tests;
-        if (g.colliding || g.status == GjkStatus::max_iterations || g.status == GjkStatus::degenerate ||
-            g.distance <= request.tolerance) {
-            RayHit h;
-            h.t = t;
-            h.point = at.t;
-            // g.normal points from the ray's point to the shape; the shape's outward normal there is its reverse.
-            h.normal = g.status == GjkStatus::separated || g.normal.squaredNorm() > 0 ? Vec3<double>(-g.normal)
-                                                                                        : Vec3<double>(-ray.direction / speed);
-            out.hit = true;
-            out.hits.push_back(h);
-            return out;
-        }
-        // GJK's distance holds to its relative tolerance: advance by slightly less.
-        const double approach = ray.direction.dot(g.normal);
-        if (!(approach > 0)) return out;  // moving away from the separating plane through the closest point
-        t += (g.distance * (1 - 1e-8) - request.tolerance * 0.5) / approach;
-        if (!(t <= ray.t_max)) return out;
-    }
-    // Out of steps: a hit is assumed at the last certified time (conservative, as convex_toi).
+    // The bounding ball about the shape's origin, grown by the tolerance: a hit, if any, lies where the ray is in it.
+    const double radius = detail::radius_about_origin(shape) + request.tolerance;
+    const Vec3<double> to_centre = pose.t - ray.origin;
+    const double along = to_centre.dot(ray.direction) / (speed * speed);
+    const double off2 = (to_centre - along * ray.direction).squaredNorm(), r2 = radius * radius;
+    if (off2 > r2) return out;  // the ray's line misses the ball
+    const double half = std::sqrt((r2 - off2) / (speed * speed));
+    const double t0 = std::max(ray.t_min, along - half);
+    if (!(t0 <= std::min(ray.t_max, along + half))) return out;  // the ball lies outside [t_min, t_max]
+    const Vec3<double> start = ray.origin + t0 * ray.direction;
+    const Vec3<double> first =
+        (start - pose.t).squaredNorm() > 0 ? Vec3<double>(start - pose.t) : Vec3<double>(-ray.direction);
+    const detail::GjkRayCastResult c = detail::gjk_ray_cast(
+        [&](const Vec3<double>& d, Vec3<double>& a, Vec3<double>& b) {
+            a = pose.R * shape.support(pose.R.transpose() * d) + pose.t;
+            b = start;
+        },
+        ray.direction, first, ray.t_max - t0, request.tolerance, request.max_iterations);
+    out.triangle_tests = std::uint64_t(c.iterations);
+    if (c.end == detail::GjkRayCastResult::End::miss) return out;
     RayHit h;
-    h.t = t;
-    h.point = ray.origin + t * ray.direction;
-    h.normal = -ray.direction / speed;
+    h.t = t0 + c.lambda;
+    h.point = start + c.lambda * ray.direction;
+    // c.normal points from the shape to the ray's point: the shape's outward normal there; for a ray starting
+    // inside, the reversed direction.
+    h.normal = c.normal.squaredNorm() > 0 ? c.normal : Vec3<double>(-ray.direction / speed);
     out.hit = true;
-    out.capped = true;
+    out.capped = c.end == detail::GjkRayCastResult::End::capped;
     out.hits.push_back(h);
     return out;
 }

@@ -9,8 +9,8 @@
 /// the direction n from A to B. No point of A gains on B along n faster than
 ///     μ = max(0, (v_A − v_B)·n) + |n × ω_A|·r_A + |n × ω_B|·r_B
 /// (v the origins' velocities, ω the angular velocities — fixed in the world frame, since each shape turns about one
-/// axis at a constant rate — and r each shape's radius about its origin: a point at r from the origin moves along n
-/// at n·(ω × r) = r·(n × ω)), and the
+/// axis at a constant rate — and r each shape's radius about that axis through its origin: a point p relative to
+/// the origin moves along n at n·(ω × p) = p·(n × ω), and n × ω ⟂ ω sees only p's part off the axis), and the
 /// distance is at least the gap along n, so the shapes cannot touch before t + d/μ: the query advances to there
 /// and repeats, and reports contact when d falls to the tolerance. Every step is a lower bound, so a contact is
 /// never skipped, whatever the shapes' sizes or speeds (only GJK's distance must be right, which it certifies).
@@ -29,7 +29,10 @@
 namespace cdkit {
 
 struct ToiRequest {
-    double tolerance = 1e-6;   ///< contact when the distance falls to this (absolute, > 0)
+    /// Contact when the distance falls to this (absolute, > 0): always reported when the shapes come within half
+    /// of it (a step passes a plane only while it is over tolerance / 2 away), not when they stay farther than it
+    /// (unless the query runs out of steps: `capped`).
+    double tolerance = 1e-6;
     int max_iterations = 512;  ///< advancement steps before the query gives up (then `capped`, contact assumed)
 };
 
@@ -56,6 +59,25 @@ template <SupportMapped A> [[nodiscard]] double radius_about_origin(const A& sha
                           std::abs(double(shape.support((-d).cast<typename A::Scalar>())[k])));
     }
     return far.norm() * (1 + 1e-12);
+}
+
+/// Radius of a shape about a line through its origin along the unit `axis` (its own frame): the farthest corner of
+/// its local bounding box from that line. A shape turning about that axis moves its points at |ω| times their
+/// distance from the line, so this bounds their speed more tightly than the radius about the origin.
+template <SupportMapped A> [[nodiscard]] double radius_about_axis(const A& shape, const Vec3<double>& axis) noexcept {
+    Vec3<double> lo, hi;
+    for (int k = 0; k < 3; ++k) {
+        Vec3<double> d = Vec3<double>::Zero();
+        d[k] = 1;
+        hi[k] = double(shape.support(d.cast<typename A::Scalar>())[k]);
+        lo[k] = double(shape.support((-d).cast<typename A::Scalar>())[k]);
+    }
+    double r2 = 0;
+    for (int c = 0; c < 8; ++c) {
+        const Vec3<double> p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+        r2 = std::max(r2, (p - p.dot(axis) * axis).squaredNorm());
+    }
+    return std::sqrt(r2) * (1 + 1e-12);
 }
 
 /// A pose moving with constant velocities between two poses.
@@ -99,7 +121,8 @@ struct AdvanceStep {
 }
 
 /// The advancement loop shared by the convex, the mesh–convex and the mesh–mesh time of impact. `distance_at(pa, pb)` answers
-/// at the poses of time t; `radius_a`, `radius_b` bound each object's points' distance from its origin. With
+/// at the poses of time t; `radius_a`, `radius_b` bound each object's points' distance from its rotation axis
+/// through its origin (the radius about the origin does). With
 /// `separating_normal` (two convex shapes) the plane through the closest points orthogonal to n separates the whole
 /// shapes, so only the approach along n counts: (v_a − v_b)·n + |n × ω_a|·r_a + |n × ω_b|·r_b; otherwise (a mesh:
 /// the closest pair may switch to another part) any point may approach at up to |v_a − v_b| + |ω_a|·r_a +
@@ -159,7 +182,10 @@ template <SupportMapped A, SupportMapped B>
 [[nodiscard]] ToiResult convex_toi_advancement(const A& a, const PoseMotion& ma, const B& b, const PoseMotion& mb,
                                                const ToiRequest& request) {
     GjkCache<double> cache;
-    return advance(ma, mb, radius_about_origin(a), radius_about_origin(b), true, request,
+    // Each shape turns about one axis of its own frame, so its distance from that axis bounds its points' speed.
+    const double ra = ma.angle > 0 ? radius_about_axis(a, ma.axis) : 0.0;
+    const double rb = mb.angle > 0 ? radius_about_axis(b, mb.axis) : 0.0;
+    return advance(ma, mb, ra, rb, true, request,
                    [&](const Transform<double>& pa, const Transform<double>& pb) {
                        const GjkResult<double> g = gjk_distance(a, pa, b, pb, &cache);
                        return AdvanceStep{g.colliding || g.status == GjkStatus::max_iterations ||
