@@ -25,7 +25,7 @@
 //   cdkit convex_toi         the default tolerance (1e-6, absolute distance): a GJK ray cast for translations,
 //                            conservative advancement when a shape turns;
 //   cdkit advancement        conservative advancement for translations too (the ray cast off);
-//   cdkit convex_toi, FCL's stop   tolerance 1e-4 × the pair's motion bound (|v_A − v_B| + |ω_A| r_A + |ω_B| r_B),
+//   cdkit convex_toi at FCL's stop  tolerance 1e-4 × the pair's motion bound (|v_A − v_B| + |ω_A| r_A + |ω_B| r_B),
 //                            FCL's own stopping rule (it stops when an advancement step is under 1e-4 of the step);
 //   FCL CA libccd            fcl::continuousCollide, its default GJK (libccd);
 //   FCL CA indep             the same with FCL's own GJK (GST_INDEP).
@@ -158,7 +158,7 @@ struct Tally {
 struct Sums {
     Tally tallies[5] = {{"cdkit convex_toi"},
                         {"cdkit advancement"},
-                        {"cdkit convex_toi, FCL's stop"},
+                        {"cdkit convex_toi at FCL's stop"},
                         {"FCL CA libccd"},
                         {"FCL CA indep"}};
     long certain = 0;
