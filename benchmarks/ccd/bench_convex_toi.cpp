@@ -29,6 +29,7 @@
 //                            FCL's own stopping rule (it stops when an advancement step is under 1e-4 of the step);
 //   FCL CA libccd            fcl::continuousCollide, its default GJK (libccd);
 //   FCL CA indep             the same with FCL's own GJK (GST_INDEP).
+#include "../fcl_pose.hpp"
 #include "../bench_util.hpp"
 #include "../provenance.hpp"
 
@@ -56,7 +57,6 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using V = cdkit::Vec3<double>;
 using T = cdkit::Transform<double>;
 using cdbench::median;
@@ -101,12 +101,7 @@ template <class F> decltype(auto) visit_shape(const Shape& s, F&& f) {
         s);
 }
 
-fcl::Transform3d to_fcl(const T& t) {
-    fcl::Transform3d x = fcl::Transform3d::Identity();
-    x.linear() = t.R;
-    x.translation() = t.t;
-    return x;
-}
+using cdbench::to_fcl;
 
 /// The pose at time t of a motion from `start` to `end`: the origin on the straight line, the rotation along the
 /// shortest arc at a constant rate (Eigen's slerp), the motion cdkit's convex_toi and FCL's InterpMotion describe.
@@ -114,23 +109,6 @@ fcl::Transform3d to_fcl(const T& t) {
 T pose_at(const T& start, const T& end, double t) {
     const Eigen::Quaterniond q0(start.R), q1(end.R);
     return T(q0.slerp(t, q1).toRotationMatrix(), (1 - t) * start.t + t * end.t);
-}
-
-template <class F> double best_us(F&& f) {
-    f();  // warm
-    double best = 1e300;
-    for (int i = 0; i < 3; ++i) {
-        const auto t0 = Clock::now();
-        f();
-        best = std::min(best, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
-    }
-    return best;
-}
-
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(p * double(v.size())))];
 }
 
 /// What one method answered for one pair.
@@ -324,7 +302,7 @@ int main(int argc, char** argv) try {
                             ans = {res.is_collide, res.is_collide ? res.time_of_contact : 1.0};
                         }
                     };
-                    if (time_it) tally.us.push_back(best_us(run));
+                    if (time_it) tally.us.push_back(1e6 * cdbench::warm_best_seconds(run));
                     else run();
                     tally.contacts += ans.colliding;
                     tally.capped += capped;
@@ -359,7 +337,7 @@ int main(int argc, char** argv) try {
         const double fcl_median = median(tallies[3].us);
         for (int m = 0; m < 5; ++m) {
             const Tally& t = tallies[m];
-            const double med = median(t.us), p99 = percentile(t.us, 0.99);
+            const double med = median(t.us), p99 = cdbench::quantile(t.us, 0.99);
             const double mx = t.us.empty() ? 0 : *std::max_element(t.us.begin(), t.us.end());
             const double ratio = med > 0 ? fcl_median / med : 0;
             const double early_med = median(t.early);

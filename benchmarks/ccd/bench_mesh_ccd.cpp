@@ -18,6 +18,7 @@
 // Per class and method: median / max ms per query (each query warm: one untimed run, then the fastest of 3),
 // contacts reported, FCL CA RSS's median over the row's (the speed-up), for translation the largest
 // |toi_cdkit − toi_fcl| over pairs both call colliding, and the certain contacts the method missed.
+#include "../fcl_pose.hpp"
 #include "../bench_util.hpp"
 #include "../provenance.hpp"
 #include <cdkit/bv/obb.hpp>
@@ -36,30 +37,13 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using V = cdkit::Vec3<double>;
 using T = cdkit::Transform<double>;
-
-template <class F> double best_ms(F&& f) {
-    f();  // warm
-    double best = 1e300;
-    for (int i = 0; i < 3; ++i) {
-        const auto t0 = Clock::now();
-        f();
-        best = std::min(best, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    }
-    return best;
-}
 
 using cdbench::random_rotation;
 using cdbench::median;
 
-fcl::Transform3d to_fcl(const T& t) {
-    fcl::Transform3d x = fcl::Transform3d::Identity();
-    x.linear() = t.R;
-    x.translation() = t.t;
-    return x;
-}
+using cdbench::to_fcl;
 
 
 }  // namespace
@@ -131,8 +115,8 @@ int main(int argc, char** argv) try {
                     rotate ? cdkit::Mat3<double>(Eigen::AngleAxisd(M_PI / 2, random_rotation(rng).col(0)) * r0) : r0;
                 const T a0(r0, -3.5 * u + lateral), a1(r1, 3.5 * u + lateral), b(rb, V::Zero());
                 cdkit::DeformableCcdResult ro, rr;
-                ms_obb.push_back(best_ms([&] { ro = cdkit::mesh_ccd(obb, a0, a1, obb, b, b); }));
-                ms_rss.push_back(best_ms([&] { rr = cdkit::mesh_ccd(rss, a0, a1, rss, b, b); }));
+                ms_obb.push_back(1e3 * cdbench::warm_best_seconds([&] { ro = cdkit::mesh_ccd(obb, a0, a1, obb, b, b); }));
+                ms_rss.push_back(1e3 * cdbench::warm_best_seconds([&] { rr = cdkit::mesh_ccd(rss, a0, a1, rss, b, b); }));
                 fcl::ContinuousCollisionRequestd req;
                 req.ccd_solver_type = fcl::CCDC_CONSERVATIVE_ADVANCEMENT;
                 req.ccd_motion_type = rotate ? fcl::CCDM_LINEAR : fcl::CCDM_TRANS;
@@ -151,8 +135,8 @@ int main(int argc, char** argv) try {
                                                r);
                     }
                 };
-                ms_fcl.push_back(best_ms([&] { fcl_ccd(model_rss, res); }));
-                ms_fcl_obbrss.push_back(best_ms([&] { fcl_ccd(model, res_obbrss); }));
+                ms_fcl.push_back(1e3 * cdbench::warm_best_seconds([&] { fcl_ccd(model_rss, res); }));
+                ms_fcl_obbrss.push_back(1e3 * cdbench::warm_best_seconds([&] { fcl_ccd(model, res_obbrss); }));
                 // All-pairs primitive CCD over the same (chord) motion, on meshes small enough for it: mesh_ccd's
                 // earliest time must equal it.
                 if (mesh.triangles.size() <= brute_force_max && k < brute_force_trials) {
@@ -194,15 +178,15 @@ int main(int argc, char** argv) try {
                 std::printf("%-14s %9zu %-11s %-22s %7d %8d %10.3f %10.3f %8.2f %9.2g %6d\n", name.c_str(),
                             mesh.triangles.size(), motion, method, trials, hits, median(ms),
                             *std::max_element(ms.begin(), ms.end()), ratio, dtoi, missed);
-                const bool ours = std::string(method).rfind("cdkit", 0) == 0;  // the all-pairs check is of mesh_ccd
+                // The all-pairs check is of mesh_ccd: FCL's rows leave its columns empty.
+                char all_pairs[64] = ",,";
+                if (std::string(method).rfind("cdkit", 0) == 0 && brute_checked > 0)
+                    std::snprintf(all_pairs, sizeof all_pairs, "%d,%d,%.3g", brute_checked, brute_disagree,
+                                  max_brute_dtoi);
                 if (out)
                     std::fprintf(out, "%s,%zu,%s,%s,%d,%d,%.4f,%.4f,%.3f,%.3g,%d,%s\n", name.c_str(), mesh.triangles.size(),
                                  motion, method, trials, hits, median(ms), *std::max_element(ms.begin(), ms.end()), ratio,
-                                 dtoi, missed,
-                                 ours && brute_checked > 0
-                                     ? (std::to_string(brute_checked) + "," + std::to_string(brute_disagree) + "," +
-                                        std::to_string(max_brute_dtoi)).c_str()
-                                     : ",,");
+                                 dtoi, missed, all_pairs);
             };
             if (!rotate)
                 std::printf("%-14s %9zu %-11s contacts certain by FCL's discrete collide along the path: %d; overlaps "

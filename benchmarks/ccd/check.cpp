@@ -12,6 +12,7 @@
 // has run ≥ 2 µs (steady_clock), divided by the repetitions. Exit status 1 when there is a false negative.
 
 #include "oracles/ccd_query_file.hpp"
+#include "../bench_util.hpp"
 #include "../provenance.hpp"
 
 #include <cdkit/ccd/deformable_ccd.hpp>
@@ -31,6 +32,7 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using cdbench::quantile;
 
 cdkit::CcdResult run(const cdkit::test::CcdQuery& q, bool vf, const cdkit::CcdRequest& req) {
     const auto& p = q.points;
@@ -67,12 +69,6 @@ struct Tally {
         us.insert(us.end(), o.us.begin(), o.us.end());
     }
 };
-
-double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-}
 
 void print_row(std::FILE* out, const std::string& name, const char* kind, const Tally& t) {
     std::fprintf(out, "%-58s %-3s %7zu %6zu %4zu %6zu %6zu %9.3f %9.3f %10.2f\n", name.c_str(), kind, t.queries,

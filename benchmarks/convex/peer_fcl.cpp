@@ -1,4 +1,5 @@
 #include "peer_fcl.hpp"
+#include "../fcl_pose.hpp"
 #include "batch_timer.hpp"
 
 #include <fcl/geometry/shape/box.h>
@@ -23,12 +24,7 @@ namespace cdkit::bench {
 namespace {
 volatile double g_fcl_sink = 0;
 
-fcl::Transform3d to_fcl(const Transform<double>& p) {
-    fcl::Transform3d t = fcl::Transform3d::Identity();
-    t.linear() = p.R;
-    t.translation() = p.t;
-    return t;
-}
+using cdbench::to_fcl;
 
 /// Calls f with the FCL shape of d. FCL's capsule, cylinder and cone have their axis along z like cdkit's,
 /// with the full length lz where cdkit keeps the half; its cone has the apex at +lz/2 as cdkit's; its box

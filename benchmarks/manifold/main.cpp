@@ -7,6 +7,7 @@
 // ManifoldRequest::single_point (GJK and EPA, no features: what the manifold adds), FCL 0.7 collide with enable_contact and num_max_contacts = 4 (box–box: FCL's
 // box–box routine with up to four contacts; the others: GJK/EPA, one contact). Every pose's boolean is compared.
 // Usage: cdkit_bench_manifold [--poses N] [--csv FILE]
+#include "../fcl_pose.hpp"
 #include "../bench_util.hpp"
 #include "../convex/batch_timer.hpp"
 #include "../provenance.hpp"
@@ -36,12 +37,7 @@ double sample_ns(auto&& f) {
     return best;
 }
 
-fcl::Transform3d to_fcl(const T& p) {
-    fcl::Transform3d x = fcl::Transform3d::Identity();
-    x.linear() = p.R;
-    x.translation() = p.t;
-    return x;
-}
+using cdbench::to_fcl;
 
 struct Scene {
     std::string name;

@@ -21,6 +21,7 @@
 // beyond the band goes to a third, exact opinion (the smallest triangle_distance between the mesh's and the
 // shape's triangles, a sphere being a point and a capsule a segment plus the radius): where it confirms cdkit the
 // row's fcl_wrong counts it, otherwise disagreements does. Exit status 1 on any disagreement.
+#include "../fcl_pose.hpp"
 #include "../bench_util.hpp"
 #include "../convex/batch_timer.hpp"
 #include "../provenance.hpp"
@@ -48,12 +49,7 @@ using T = cdkit::Transform<double>;
 using cdbench::random_rotation;
 using cdbench::median;
 
-fcl::Transform3d to_fcl(const T& t) {
-    fcl::Transform3d x = fcl::Transform3d::Identity();
-    x.linear() = t.R;
-    x.translation() = t.t;
-    return x;
-}
+using cdbench::to_fcl;
 
 
 /// Fastest of 3 warm batches, µs per call.

@@ -49,18 +49,13 @@ namespace {
 using V = cdkit::Vec3<double>;
 using T = cdkit::Transform<double>;
 using Model = cdkit::MeshModel<cdkit::Obb<double>>;
+using cdbench::quantile;
 
 
 double sample_ns(auto&& f) {
     double best = 1e300;
     for (int b = 0; b < 3; ++b) best = std::min(best, cdkit::bench::time_ns(f, 1));
     return best;
-}
-
-double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
 }
 
 struct Object {

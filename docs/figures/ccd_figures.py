@@ -17,20 +17,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import cdkit
+from poses import pose, rot_z
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
-
-
-def pose(R, t):
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = t
-    return T
-
-
-def rot_z(a):
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
 def read_results(path):

@@ -138,26 +138,59 @@ std::vector<Pose> poses(py::handle obj, const char* name, std::size_t n) {
     return out;
 }
 
-TriangleMesh<double> mesh_from_arrays(py::handle vertices, py::handle faces, const std::string& source) {
-    const auto v = real_array(vertices, "vertices", {-1, 3});
-    const auto f = index_array(faces, "faces", {-1, 3});
-    if (f.shape(0) == 0) throw py::value_error("faces: the mesh has no triangles");
-    const std::int64_t n = v.shape(0);
-    TriangleMesh<double> m;
-    m.source = source;
+namespace {
+/// `obj` as a C-contiguous array of exactly T when it already is one (no conversion, no copy), else empty.
+template <class T> py::array_t<T, py::array::c_style> exact_array(py::handle obj) {
+    if (!py::isinstance<py::array_t<T, py::array::c_style>>(obj)) return {};
+    return py::reinterpret_borrow<py::array_t<T, py::array::c_style>>(obj);
+}
+
+/// The mesh's vertices read straight from an (N,3) array of S (the model copies them once, into its own mesh).
+template <class S> void read_vertices(const S* p, std::int64_t n, TriangleMesh<double>& m) {
     m.vertices.resize(std::size_t(n));
-    const double* pv = v.data();
-    for (std::int64_t i = 0; i < n; ++i) m.vertices[std::size_t(i)] = V3(pv[3 * i], pv[3 * i + 1], pv[3 * i + 2]);
-    m.triangles.resize(std::size_t(f.shape(0)));
-    const std::int64_t* pf = f.data();
-    for (std::size_t i = 0; i < m.triangles.size(); ++i)
+    for (std::int64_t i = 0; i < 3 * n; ++i)
+        if (!std::isfinite(double(p[i])))
+            throw py::value_error("vertices: entry " + std::to_string(i) + " is NaN or infinite");
+    for (std::int64_t i = 0; i < n; ++i)
+        m.vertices[std::size_t(i)] = V3(double(p[3 * i]), double(p[3 * i + 1]), double(p[3 * i + 2]));
+}
+
+/// The triangles from an (M,3) integer array of I, every index checked against the n vertices.
+template <class I> void read_triangles(const I* p, std::size_t count, std::int64_t n, TriangleMesh<double>& m) {
+    m.triangles.resize(count);
+    for (std::size_t i = 0; i < count; ++i)
         for (int k = 0; k < 3; ++k) {
-            const std::int64_t x = pf[3 * i + std::size_t(k)];
+            const std::int64_t x = std::int64_t(p[3 * i + std::size_t(k)]);
             if (x < 0 || x >= n)
                 throw py::value_error("faces: triangle " + std::to_string(i) + " has vertex index " + std::to_string(x) +
                                       ", out of range for " + std::to_string(n) + " vertices");
             m.triangles[i][std::size_t(k)] = Index(x);
         }
+}
+}  // namespace
+
+TriangleMesh<double> mesh_from_arrays(py::handle vertices, py::handle faces, const std::string& source) {
+    TriangleMesh<double> m;
+    m.source = source;
+    // float32 / float64 vertices and int32 / int64 faces in C order are read in place; anything else is converted
+    // (and checked) to float64 / int64 first.
+    std::int64_t n = 0;
+    if (const auto v32 = exact_array<float>(vertices); v32 && v32.ndim() == 2 && v32.shape(1) == 3) {
+        n = v32.shape(0);
+        read_vertices(v32.data(), n, m);
+    } else {
+        const auto v = real_array(vertices, "vertices", {-1, 3}, false);  // read_vertices checks finiteness
+        n = v.shape(0);
+        read_vertices(v.data(), n, m);
+    }
+    if (const auto f32 = exact_array<std::int32_t>(faces); f32 && f32.ndim() == 2 && f32.shape(1) == 3) {
+        if (f32.shape(0) == 0) throw py::value_error("faces: the mesh has no triangles");
+        read_triangles(f32.data(), std::size_t(f32.shape(0)), n, m);
+    } else {
+        const auto f = index_array(faces, "faces", {-1, 3});
+        if (f.shape(0) == 0) throw py::value_error("faces: the mesh has no triangles");
+        read_triangles(f.data(), std::size_t(f.shape(0)), n, m);
+    }
     return m;
 }
 

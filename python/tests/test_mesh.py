@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import cdkit
-from conftest import cube, rotation_z, translation
+from conftest import DATA, cube, rotation_z, translation
 
 BVS = ["aabb", "obb", "rss", "kdop18", "sphere"]
 
@@ -77,6 +77,21 @@ def test_models_of_every_dtype_agree():
         for ff in (f.astype(np.int32), f.astype(np.uint32), f.astype(np.uint64)):
             m = cdkit.MeshModel(vv, ff)
             assert cdkit.distance(m, None, m, pb).distance == cdkit.distance(ref, None, ref, pb).distance
+    # float32 vertices and int32 faces in C order are read in place (no float64 / int64 temporary): the model's mesh
+    # is exactly the float32 values widened, and their bad entries are named as for any dtype.
+    vb, fb64 = cdkit.load_mesh(str(DATA / "bunny.obj"))
+    b, fb = vb.astype(np.float32), fb64.astype(np.int32)
+    m32 = cdkit.MeshModel(b, fb)
+    assert m32.vertices.dtype == np.float64 and np.array_equal(m32.vertices, b.astype(np.float64))
+    assert np.array_equal(m32.faces, fb.astype(np.int64))
+    bad = b.copy()
+    bad[7, 1] = np.nan
+    with pytest.raises(ValueError, match="vertices: entry 22 is NaN or infinite"):
+        cdkit.MeshModel(bad, fb)
+    bad_faces = fb.copy()
+    bad_faces[3, 2] = len(b)
+    with pytest.raises(ValueError, match="faces: triangle 3 has vertex index"):
+        cdkit.MeshModel(b, bad_faces)
     # Non-contiguous (transposed views) arrays are read correctly too.
     m = cdkit.MeshModel(np.asfortranarray(v), np.asfortranarray(f))
     assert np.array_equal(m.vertices, v) and np.array_equal(m.faces, f)

@@ -27,6 +27,25 @@ double sampled_first_contact(const A& a, const T& a0, const T& a1, const B& b, c
     return 2;
 }
 
+/// The checks of one fast pair's answer `r`: a contact the sampling saw (at `first` ≤ 1) is reported, never later;
+/// at a reported time GJK measures the shapes within the default tolerance (up to its own accuracy, relative to
+/// `scale`).
+template <class A, class B>
+void check_answer(const cdkit::ToiResult& r, double first, const A& a, const T& a0, const T& a1, const B& b,
+                  const T& b0, const T& b1, double scale) {
+    if (first <= 1) {
+        CAPTURE(first, r.toi, r.iterations);
+        REQUIRE(r.colliding);
+        CHECK(r.toi <= first);
+    }
+    if (r.colliding && !r.capped) {
+        const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
+        const auto g = cdkit::gjk_distance(a, ma.at(r.toi), b, mb.at(r.toi));
+        CAPTURE(r.toi, g.distance);
+        CHECK((g.colliding || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * scale));
+    }
+}
+
 }  // namespace
 
 TEST_CASE("convex TOI: spheres head-on, known in closed form", "[ccd]") {
@@ -69,17 +88,8 @@ TEST_CASE("convex TOI: fast pairs of every size ratio never tunnel", "[ccd]") {
         const double first = sampled_first_contact(a, a0, a1, b, b0, b1, 400);
         contacts += r.colliding;
         sampled += first <= 1;
-        if (first <= 1) {
-            CAPTURE(i, sa, sb, first, r.toi, r.iterations);
-            REQUIRE(r.colliding);
-            CHECK(r.toi <= first);
-        }
-        if (r.colliding && !r.capped) {
-            // At the reported time the shapes are within the tolerance (up to GJK's own accuracy).
-            const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
-            const auto g = cdkit::gjk_distance(a, ma.at(r.toi), b, mb.at(r.toi));
-            CHECK((g.colliding || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * reach));
-        }
+        CAPTURE(i, sa, sb);
+        check_answer(r, first, a, a0, a1, b, b0, b1, reach);
     }
     CHECK(sampled > n / 4);  // the motions do hit
     CHECK(contacts >= sampled);
@@ -115,19 +125,10 @@ TEST_CASE("shape cast: translating pairs of every size ratio never tunnel, hit w
             contacts += r.colliding;
             sampled += first <= 1;
             agree += r.colliding == ca.colliding;
-            if (first <= 1) {
-                CAPTURE(i, sa, sb, first, r.toi, r.iterations);
-                REQUIRE(r.colliding);
-                CHECK(r.toi <= first);
-            }
-            if (r.colliding && !r.capped) {
-                const cdkit::detail::PoseMotion ma(a0, a1), mb(b0, b1);
-                const auto g = cdkit::gjk_distance(a, ma.at(r.toi), shape_b, mb.at(r.toi));
-                CAPTURE(i, sa, sb, r.toi, g.distance);
-                CHECK((g.colliding || g.distance <= 1e-6 * (1 + 1e-6) + 1e-9 * scale));
-                // The witness points are the shapes' points at toi, within the tolerance of each other.
-                CHECK((r.point_b - r.point_a).norm() <= 1e-6 + 1e-9 * scale);
-            }
+            CAPTURE(i, sa, sb);
+            check_answer(r, first, a, a0, a1, shape_b, b0, b1, scale);
+            // The witness points are the shapes' points at toi, within the tolerance of each other.
+            if (r.colliding && !r.capped) CHECK((r.point_b - r.point_a).norm() <= 1e-6 + 1e-9 * scale);
         };
         check(box, reach);
         std::vector<V> corners;
