@@ -76,6 +76,7 @@ template <class Support>
         bool known = false;  // the support point is already a vertex: adding it again would make the simplex flat
         for (int k = 0; k < s.size; ++k) known = known || (s.v[std::size_t(k)].a == a && s.v[std::size_t(k)].b == b);
         if (known && !advanced) return finish(GjkRayCastResult::End::capped);  // no progress left: conservative
+        if (!known && s.size == 4) return finish(GjkRayCastResult::End::capped);  // a full simplex not holding x
         if (!known) {
             GjkVertex<double>& added = s.v[std::size_t(s.size++)];
             added.w = x - (a - b);
@@ -83,9 +84,8 @@ template <class Support>
             added.b = b;
         }
         if (SimplexSolver<double>::solve(s, v)) {  // x inside the tetrahedron, so inside C: weights of x in it
-            const Eigen::Matrix3d m{{s.v[1].w.x() - s.v[0].w.x(), s.v[2].w.x() - s.v[0].w.x(), s.v[3].w.x() - s.v[0].w.x()},
-                                    {s.v[1].w.y() - s.v[0].w.y(), s.v[2].w.y() - s.v[0].w.y(), s.v[3].w.y() - s.v[0].w.y()},
-                                    {s.v[1].w.z() - s.v[0].w.z(), s.v[2].w.z() - s.v[0].w.z(), s.v[3].w.z() - s.v[0].w.z()}};
+            Eigen::Matrix3d m;
+            for (int k = 0; k < 3; ++k) m.col(k) = s.v[std::size_t(k + 1)].w - s.v[0].w;
             const Vec3<double> l = m.fullPivLu().solve(Vec3<double>(-s.v[0].w));
             s.lambda = {1 - l.sum(), l.x(), l.y(), l.z()};
             v.setZero();
