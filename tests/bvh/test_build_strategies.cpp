@@ -170,3 +170,46 @@ TEST_CASE("SAH bins an axis of subnormal spread without overflow", "[bvh][build]
     REQUIRE_NOTHROW(model.validate());
     CHECK(model.bvh().depth() <= 12);
 }
+
+TEST_CASE("PCA + volume sweep cuts at the gap between two clumps; the object median cuts through one", "[bvh][build]") {
+    // Two clumps of small triangles on the diagonal, 60 and 140: the cut minimising vol(L) + vol(R) is the gap
+    // between them, the object median (100 / 100) is not; so a PCA build that fell back to the median fails here.
+    TriangleMesh<double> m;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    for (int i = 0; i < 200; ++i) {
+        const Vec3<double> c = i < 60 ? Vec3<double>::Zero() : Vec3<double>(3, 3, 3);
+        for (int k = 0; k < 3; ++k) m.vertices.push_back(c + Vec3<double>(jitter(rng), jitter(rng), jitter(rng)));
+        m.triangles.push_back({Index(3 * i), Index(3 * i + 1), Index(3 * i + 2)});
+    }
+    // How many of the first child's triangles lie in the small clump, and how many triangles it has.
+    auto first_child = [&](SplitStrategy split) {
+        BuildOptions opt;
+        opt.split = split;
+        const MeshModel<Obb<double>> model(m, opt);
+        const auto& nodes = model.bvh().nodes();
+        REQUIRE_FALSE(model.bvh().root().is_leaf());
+        int in_small = 0, all = 0;
+        std::vector<std::uint32_t> stack{model.bvh().root().first};
+        while (!stack.empty()) {
+            const auto& n = nodes[stack.back()];
+            stack.pop_back();
+            if (!n.is_leaf()) {
+                stack.push_back(n.first), stack.push_back(n.first + 1);
+                continue;
+            }
+            for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
+                const auto tri = model.mesh().triangle(model.bvh().triangle_order()[k]);
+                in_small += (tri[0] + tri[1] + tri[2]).x() < 4.5;
+                ++all;
+            }
+        }
+        return std::pair(in_small, all);
+    };
+    const auto [pca_small, pca_all] = first_child(SplitStrategy::pca_volume);
+    CHECK((pca_small == 0 || pca_small == pca_all));  // one clump on each side
+    CHECK((pca_all == 60 || pca_all == 140));
+    const auto [median_small, median_all] = first_child(SplitStrategy::median);
+    CHECK(median_all == 100);
+    CHECK((median_small != 0 && median_small != median_all));  // the median mixes them: the test can tell
+}
