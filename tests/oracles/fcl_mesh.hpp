@@ -4,6 +4,7 @@
 #include "cdkit/core/mesh.hpp"
 
 #include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/bvh/detail/BV_splitter.h>
 
 #include <memory>
 #include <vector>
@@ -18,8 +19,12 @@ inline fcl::Transform3d fcl_pose(const Transform<double>& p) {
     return x;
 }
 
-template <class BV> std::shared_ptr<fcl::BVHModel<BV>> fcl_mesh(const TriangleMesh<double>& m) {
+/// `split`: FCL's rule for dividing a node (its default, the mean, unless asked otherwise).
+template <class BV>
+std::shared_ptr<fcl::BVHModel<BV>> fcl_mesh(const TriangleMesh<double>& m,
+                                            fcl::detail::SplitMethodType split = fcl::detail::SPLIT_METHOD_MEAN) {
     auto model = std::make_shared<fcl::BVHModel<BV>>();
+    model->bv_splitter = std::make_shared<fcl::detail::BVSplitter<BV>>(split);
     std::vector<fcl::Vector3d> pts(m.vertices.begin(), m.vertices.end());
     std::vector<fcl::Triangle> tris;
     for (const auto& t : m.triangles) tris.emplace_back(t[0], t[1], t[2]);
