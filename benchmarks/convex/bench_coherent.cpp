@@ -1,8 +1,10 @@
 // Coherent motion (issue 5): two convex polytopes (~20 and ~200 hull vertices) moving a little each frame,
 // timed per frame for cold GJK (distance and boolean), warm-started GJK, the separating-plane test with its
 // cache, closest-feature tracking with its cache, and libccd's GJK and MPR, all in one process on the same
-// precomputed poses. Error rates against a long-double reference (cdkit's GJK in long double, tight tolerance, on
-// the shapes placed in the world frame).
+// precomputed poses, and libccd's GJK with the hulls' hinted support, the hint kept from frame to frame as warm
+// GJK's cache keeps it. Each row is compared with its own kind: distances with the cold distance, booleans with
+// the cold boolean and with libccd's GJK (plain and with the kept hint). Error rates against a long-double
+// reference (cdkit's GJK in long double, tight tolerance, on the shapes placed in the world frame).
 // Usage: cdkit_bench_coherent [frames=2000] [repetitions=5] [csv_path]
 #include "../provenance.hpp"
 #include <cdkit/narrowphase/closest_features.hpp>
@@ -16,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -132,7 +135,10 @@ int main(int argc, char** argv) {
                 a.vertices().size(), b.vertices().size(), frames, reps);
 
     const std::vector<Scene> scenes = cdbench::coherent_scenes(frames, al, bl, rng);
-    if (csv) std::fprintf(csv, "scene,method,median_ns,ratio_cold_dist,ratio_cold_bool,mean_iterations,fallbacks,"
+    // vs_cold: the cold query of the row's kind (cold GJK distance for distance rows, cold GJK boolean for boolean
+    // rows) over the row; vs_libccd, vs_libccd_hint (boolean rows): libccd's GJK, plain and with the kept hint,
+    // over the row. > 1: the row is that many times cheaper per frame.
+    if (csv) std::fprintf(csv, "scene,method,kind,median_ns,vs_cold,vs_libccd,vs_libccd_hint,mean_iterations,fallbacks,"
                                "wrong_bool,bool_checked,wrong_dist,dist_checked,worst_rel\n");
 
     for (const Scene& s : scenes) {
@@ -199,8 +205,21 @@ int main(int argc, char** argv) {
                            bench::CcdObject ob = bench::make_ccd_object(b, s.frames[f].pb);
                            o.hit[f] = char(ccdMPRIntersect(&oa, &ob, &ccd) != 0);
                        }};
+        // libccd's GJK given the hint slot that warm GJK keeps in its cache (issue 37): the hulls' hinted support,
+        // each hull's last support vertex carried from frame to frame (reset with the repetition, as the cache is).
+        std::uint32_t kept_hint[2] = {std::uint32_t(-1), std::uint32_t(-1)};
+        auto reset_hint = [&] { kept_hint[0] = kept_hint[1] = std::uint32_t(-1); };
+        Method ccd_hint{"libccd GJK kept hint", false, reset_hint, [&](std::size_t f, Outcome& o) {
+                            bench::CcdObject oa = bench::make_ccd_object(a, s.frames[f].pa, true);
+                            bench::CcdObject ob = bench::make_ccd_object(b, s.frames[f].pb, true);
+                            oa.hint = kept_hint[0];
+                            ob.hint = kept_hint[1];
+                            o.hit[f] = char(ccdGJKIntersect(&oa, &ob, &ccd) != 0);
+                            kept_hint[0] = oa.hint;
+                            kept_hint[1] = ob.hint;
+                        }};
         std::vector<Outcome> outcomes = run(s, reps, cold_distance, cold_boolean, warm_distance, warm_boolean, plane,
-                                            features, ccd_gjk, ccd_mpr, plane0);
+                                            features, ccd_gjk, ccd_mpr, plane0, ccd_hint);
         struct Named {
             const char* name;
             Outcome& o;
@@ -215,12 +234,24 @@ int main(int argc, char** argv) {
             {features.name, outcomes[5], features.distance},
             {ccd_gjk.name, outcomes[6], ccd_gjk.distance},
             {ccd_mpr.name, outcomes[7], ccd_mpr.distance},
-            {plane0.name, outcomes[8], plane0.distance}};
+            {plane0.name, outcomes[8], plane0.distance},
+            {ccd_hint.name, outcomes[9], ccd_hint.distance}};
+        // Each row against its own kind (issue 37): a distance row against the cold distance, a boolean row
+        // against the cold boolean and against libccd's GJK (plain, and with the kept hint).
         const double cold_dist = rows[0].o.median(), cold_bool = rows[1].o.median();
-        std::printf("  %-18s | %9s | %11s %11s | %7s | %9s | %-22s | %s\n", "method", "median ns", "cold dist/x",
-                    "cold bool/x", "mean it", "GJK used", "wrong booleans", "distance rel.err > 1e-9 (max)");
+        const double ccd_plain = rows[6].o.median(), ccd_kept = rows[9].o.median();
+        std::printf("  %-20s | %-8s | %9s | %8s %9s %9s | %7s | %9s | %-22s | %s\n", "method", "kind", "median ns",
+                    "cold/x", "libccd/x", "hint/x", "mean it", "GJK used", "wrong booleans",
+                    "distance rel.err > 1e-9 (max)");
         for (const Named& row : rows) {
             const double med = row.o.median();
+            const char* kind = row.distance ? "distance" : "boolean";
+            const double vs_cold = (row.distance ? cold_dist : cold_bool) / med;
+            char vs_ccd[16] = "-", vs_kept[16] = "-";
+            if (!row.distance) {
+                std::snprintf(vs_ccd, sizeof vs_ccd, "%.3f", ccd_plain / med);
+                std::snprintf(vs_kept, sizeof vs_kept, "%.3f", ccd_kept / med);
+            }
             const Errors e = errors(s, row.o, scale);
             char dist[64] = "-";
             if (row.distance)
@@ -229,18 +260,20 @@ int main(int argc, char** argv) {
             if (row.o.fallbacks || std::string(row.name).find("plane") != std::string::npos ||
                 std::string(row.name) == "closest features")
                 std::snprintf(fb, sizeof fb, "%ld", row.o.fallbacks);
-            std::printf("  %-18s | %9.0f | %11.2f %11.2f | %7.2f | %9s | %6ld / %-13ld | %s\n", row.name, med,
-                        cold_dist / med, cold_bool / med, double(row.o.iterations) / double(s.frames.size()), fb,
+            std::printf("  %-20s | %-8s | %9.0f | %8.2f %9s %9s | %7.2f | %9s | %6ld / %-13ld | %s\n", row.name, kind,
+                        med, vs_cold, vs_ccd, vs_kept, double(row.o.iterations) / double(s.frames.size()), fb,
                         e.wrong_bool, e.bool_checked, dist);
             if (csv)
-                std::fprintf(csv, "%s,%s,%.1f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%.3e\n", s.name.c_str(), row.name, med,
-                             cold_dist / med, cold_bool / med, double(row.o.iterations) / double(s.frames.size()),
+                std::fprintf(csv, "%s,%s,%s,%.1f,%.3f,%s,%s,%.3f,%ld,%ld,%ld,%ld,%ld,%.3e\n", s.name.c_str(), row.name,
+                             kind, med, vs_cold, vs_ccd, vs_kept, double(row.o.iterations) / double(s.frames.size()),
                              row.o.fallbacks, e.wrong_bool, e.bool_checked, row.distance ? e.wrong_dist : 0L,
                              row.distance ? e.dist_checked : 0L, row.distance ? e.worst_rel : 0.0);
         }
         g_sink = g_sink + rows[0].o.distance[0];
     }
-    std::printf("\n(x = the row's median; ratios > 1: the row is that many times cheaper per frame. Booleans judged\n"
+    std::printf("\n(x = the row's median; cold/x: the cold GJK query of the row's kind (distance or boolean), libccd/x and\n"
+                " hint/x (boolean rows): libccd's GJK plain and with the kept hint; ratios > 1: the row is that many\n"
+                " times cheaper per frame. Booleans judged\n"
                 " where the reference is colliding or > 1e-9 away; GJK used = frames answered by the GJK fallback in\n"
                 " the last repetition; mean it = GJK iterations, plane updates or feature-walk steps per frame.)\n");
     if (csv) std::fclose(csv);

@@ -2,6 +2,15 @@
 // GJK+EPA penetration) and FCL 0.7's two solvers (GJKSolver_indep, GJKSolver_libccd: boolean, distance,
 // penetration; peer_fcl.cpp) on the same shapes and poses, in one process, fixed seeds.
 // Usage: cdkit_bench_convex [configs_per_cell=100] [check_cases=1000000] [csv_path|-] [families] [real_csv_path]
+//                           [--p3-csv PATH] [--off LIST]
+// --p3-csv: the fair boolean table of issue 37 (results/p3.csv, provenance first): per cell the booleans of cdkit by
+// default, with each pre-test off (GjkSettings: bounding_ball_test, containment_test, candidate_axes,
+// momentum_iterations) and with all of them off (plain GJK); of libccd's GJK plain, with cdkit's hinted hull
+// support (the hint slot cdkit's GJK keeps) and with that and cdkit's own bounding-ball pre-test in front
+// (libccd + ball); the share of the cell the ball pre-test decides; ratios. --off: which pre-test-off rows run,
+// a comma subset of balls,containment,axes,momentum,all (plain GJK), or none (default: all five). Every boolean
+// is timed on the same pose in turn, the fastest of 3 interleaved batches. The docs' table:
+//   cdkit_bench_convex 100 0 /tmp/convex.csv --p3-csv /tmp/p3.csv   (then copy /tmp/p3.csv to results/)
 // families: comma-separated subset of ellipsoid,box,capsule,cylinder,cone,hull100,hull1000,real (default all); the
 // other families still draw their shapes and poses, so a measured family gets the configurations of a full run.
 // Quick A/B run of the slow boolean cells: cdkit_bench_convex 100 0 - box,cone,cylinder,hull100,hull1000
@@ -18,6 +27,7 @@
 // tight tolerances) and the share of booleans decided by the bounding-ball pre-test, then a checked counter:
 // seeded cases whose double answer disagrees with the long-double reference.
 #include "../bench_util.hpp"
+#include "../provenance.hpp"
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
 #include <cdkit/narrowphase/epa.hpp>
@@ -29,7 +39,9 @@
 #include "peer_fcl.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <cstdio>
 #include <cstdlib>
@@ -83,13 +95,47 @@ LD certified_reference(const A& a, const Transform<LD>& pa, const B& b, const Tr
 volatile double g_sink = 0;
 constexpr int reps = 16;  // calls per timed batch (one configuration)
 
+/// The boolean variants of the fair table (issue 37): cdkit with one pre-test off, then with all of them off.
+enum Off { off_balls, off_containment, off_axes, off_momentum, off_all, off_count };
+constexpr const char* off_names[off_count] = {"balls", "containment", "axes", "momentum", "all"};
+/// Which of them run (`--off LIST`; all by default).
+bool g_off_enabled[off_count] = {true, true, true, true, true};
+/// The settings of variant `k`: GjkSettings with that pre-test off (all of them, and momentum, for off_all).
+GjkSettings<double> off_settings(int k) {
+    GjkSettings<double> s;
+    if (k == off_balls || k == off_all) s.bounding_ball_test = false;
+    if (k == off_containment || k == off_all) s.containment_test = false;
+    if (k == off_axes || k == off_all) s.candidate_axes = false;
+    if (k == off_momentum || k == off_all) s.momentum_iterations = 0;
+    return s;
+}
+
 struct Row {
     std::string family, cls;
     Stats cd_bool, cd_dist, cd_epa, ccd_gjk, ccd_mpr, ccd_pen;
     Stats fcl_indep_bool, fcl_indep_dist, fcl_indep_pen, fcl_ccd_bool, fcl_ccd_dist, fcl_ccd_pen;
     long cd_bool_balls = 0;  ///< configurations the boolean decided by the bounding-ball pre-test (0 iterations)
     Stats cd_epa_bracket{};  ///< EPA's own bracket (depth − depth_lower)/depth as its "error" (cd_epa's times)
+    Stats cd_bool_off[off_count];    ///< cdkit's boolean with a pre-test off (Off), and plain GJK (off_all)
+    Stats ccd_gjk_hint{};            ///< libccd's GJK with cdkit's hinted hull support (a cold hint per query)
+    Stats ccd_gjk_ball{};            ///< the same after cdkit's bounding-ball pre-test ("libccd + ball")
 };
+
+/// ns per call of each query, interleaved: three rounds, each timing every enabled query once in turn
+/// (time_ns: an untimed call, then a batch of ≥ 20 µs), the fastest of its three batches kept.
+template <std::size_t I, std::size_t N> void time_each(const std::array<bool, N>&, std::array<double, N>&) {}
+template <std::size_t I, std::size_t N, class F, class... R>
+void time_each(const std::array<bool, N>& enabled, std::array<double, N>& best, F& f, R&... rest) {
+    if (enabled[I]) best[I] = std::min(best[I], time_ns(f, reps));
+    time_each<I + 1>(enabled, best, rest...);
+}
+template <std::size_t N, class... F> std::array<double, N> fastest_of_3(const std::array<bool, N>& enabled, F&&... f) {
+    static_assert(sizeof...(F) == N);
+    std::array<double, N> best;
+    best.fill(std::numeric_limits<double>::infinity());
+    for (int round = 0; round < 3; ++round) time_each<0>(enabled, best, f...);
+    return best;
+}
 
 /// One family: `make(rng)` returns {shape<double>, shape<long double>} pairs; scale = size of the shapes.
 template <class Make> void run_family(const char* name, Make make, double scale, int configs, std::vector<Row>& rows,
@@ -97,7 +143,9 @@ template <class Make> void run_family(const char* name, Make make, double scale,
     const double targets[3][4] = {{5, 2.5, 1, 0.5}, {1e-1, 1e-2, 1e-3, 1e-4}, {-1e-1, -1e-2, -1e-3, -1e-4}};
     const char* cls[3] = {"distant", "close", "overlapping"};
     for (int c = 0; c < 3; ++c) {
-        Row row{name, cls[c], {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, 0};
+        Row row;
+        row.family = name;
+        row.cls = cls[c];
         for (int k = 0; k < configs; ++k) {
             // Pairs unpacked by reference, not structured bindings: clang 14 cannot capture those in lambdas.
             auto shapes_a = make(rng);
@@ -129,15 +177,61 @@ template <class Make> void run_family(const char* name, Make make, double scale,
 
             GjkResult<double> rb, rd;
             double ref_c = ref_val;  // the distance reference (certified-clamped) on separated pairs
+            auto bool_err = [&](bool hit) { return (hit != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1.0 : 0.0; };
+            bench::CcdObject oa = bench::make_ccd_object(a, pa), ob = bench::make_ccd_object(b, pb);
+            ccd_t ccd = bench::make_ccd();
             {
-                // The result is constructed in place (as `auto r = gjk_intersect(...)` would be) and only a
+                // The booleans (issue 37's fair table): cdkit by default, with each pre-test off and as plain GJK;
+                // libccd's GJK plain, with cdkit's hinted hull support (the hint slot cdkit's GJK keeps, reset
+                // per query as cdkit's cold boolean resets it), and with that and cdkit's bounding-ball pre-test
+                // in front (libccd + ball); libccd's MPR. All on this pose, interleaved, fastest of 3 batches.
+                // Each cdkit result is constructed in place (as `auto r = gjk_intersect(...)` would be) and only a
                 // scalar leaves the timed call; assigning the ~600-byte GjkResult to an outer variable in the
-                // loop cost more than the one-iteration query itself. An untimed call gives the result.
-                const double ns_ = time_ns([&] { const auto r = gjk_intersect(a, pa, b, pb); g_sink = g_sink + r.distance; }, reps);
+                // loop cost more than the one-iteration query itself. Untimed calls give the answers.
+                const GjkSettings<double> so[off_count] = {off_settings(0), off_settings(1), off_settings(2),
+                                                           off_settings(3), off_settings(4)};
+                bench::CcdObject oah = bench::make_ccd_object(a, pa, true), obh = bench::make_ccd_object(b, pb, true);
+                const double tf = GjkSettings<double>{}.touch_factor * std::numeric_limits<double>::epsilon();
+                int hg = 0, hh = 0, hbl = 0, hm = 0;
+                auto ccd_ball = [&] {
+                    // cdkit's own pre-test (detail::bounding_ball_decides, its slack and all), then libccd.
+                    GjkResult<double> br;
+                    const Vec3<double> ca = detail::world_center(a, pa), cb = detail::world_center(b, pb);
+                    const Vec3<double> delta = ca - cb;
+                    if (detail::bounding_ball_decides(a, pa, b, pb, ca, cb, delta, delta.squaredNorm(), tf, br))
+                        return int(br.status == GjkStatus::intersecting);
+                    oah.hint = obh.hint = std::uint32_t(-1);
+                    return ccdGJKIntersect(&oah, &obh, &ccd);
+                };
+                std::array<bool, 10> on{true, g_off_enabled[0], g_off_enabled[1], g_off_enabled[2], g_off_enabled[3],
+                                        g_off_enabled[4], true, true, true, true};
+                const auto t = fastest_of_3(
+                    on, [&] { const auto r = gjk_intersect(a, pa, b, pb); g_sink = g_sink + r.distance; },
+                    [&] { const auto r = gjk_intersect(a, pa, b, pb, nullptr, so[0]); g_sink = g_sink + r.distance; },
+                    [&] { const auto r = gjk_intersect(a, pa, b, pb, nullptr, so[1]); g_sink = g_sink + r.distance; },
+                    [&] { const auto r = gjk_intersect(a, pa, b, pb, nullptr, so[2]); g_sink = g_sink + r.distance; },
+                    [&] { const auto r = gjk_intersect(a, pa, b, pb, nullptr, so[3]); g_sink = g_sink + r.distance; },
+                    [&] { const auto r = gjk_intersect(a, pa, b, pb, nullptr, so[4]); g_sink = g_sink + r.distance; },
+                    [&] { hg = ccdGJKIntersect(&oa, &ob, &ccd); g_sink = g_sink + hg; },
+                    [&] {
+                        oah.hint = obh.hint = std::uint32_t(-1);
+                        hh = ccdGJKIntersect(&oah, &obh, &ccd);
+                        g_sink = g_sink + hh;
+                    },
+                    [&] { hbl = ccd_ball(); g_sink = g_sink + hbl; },
+                    [&] { hm = ccdMPRIntersect(&oa, &ob, &ccd); g_sink = g_sink + hm; });
                 rb = gjk_intersect(a, pa, b, pb);
                 row.cd_bool_balls += rb.iterations == 0;
-                row.cd_bool.add(ns_,
-                            rb.iterations, (rb.colliding != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
+                row.cd_bool.add(t[0], rb.iterations, bool_err(rb.colliding));
+                for (int k = 0; k < off_count; ++k) {
+                    if (!on[std::size_t(k) + 1]) continue;
+                    const auto ro = gjk_intersect(a, pa, b, pb, nullptr, so[k]);
+                    row.cd_bool_off[k].add(t[std::size_t(k) + 1], ro.iterations, bool_err(ro.colliding));
+                }
+                row.ccd_gjk.add(t[6], 0, bool_err(hg != 0));
+                row.ccd_gjk_hint.add(t[7], 0, bool_err(hh != 0));
+                row.ccd_gjk_ball.add(t[8], 0, bool_err(hbl != 0));
+                row.ccd_mpr.add(t[9], 0, bool_err(hm != 0));
             }
             {
                 const double ns_ = time_ns([&] { const auto r = gjk_distance(a, pa, b, pb); g_sink = g_sink + r.distance; }, reps);
@@ -145,19 +239,6 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                 ref_c = ref_hit ? ref_val : double(certified_reference(al, pal, bl, pbl, ref, rd.normal));
                 row.cd_dist.add(ns_,
                             rd.iterations, ref_hit ? 0 : std::abs(rd.distance - ref_c) / std::max(ref_c, 1e-12));
-            }
-            bench::CcdObject oa = bench::make_ccd_object(a, pa), ob = bench::make_ccd_object(b, pb);
-            ccd_t ccd = bench::make_ccd();
-            int hg = 0, hm = 0;
-            {
-                const double ns_ = time_ns([&] { hg = ccdGJKIntersect(&oa, &ob, &ccd); g_sink = g_sink + hg; }, reps);
-                row.ccd_gjk.add(ns_, 0,
-                            (bool(hg) != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
-            }
-            {
-                const double ns_ = time_ns([&] { hm = ccdMPRIntersect(&oa, &ob, &ccd); g_sink = g_sink + hm; }, reps);
-                row.ccd_mpr.add(ns_, 0,
-                            (bool(hm) != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1 : 0);
             }
             if (c == 2 && ref_hit) {
                 PenetrationResult<double> rp;
@@ -182,9 +263,7 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                 // FCL: its shapes are built from the same descriptions inside fcl_measure, before its timing.
                 const bool pen = c == 2 && ref_hit;
                 const auto fr = bench::fcl_measure(bench::fcl_desc(a), pa, bench::fcl_desc(b), pb, reps, pen);
-                auto bool_err = [&](const bench::FclQuery& q) {
-                    return (q.hit != ref_hit && std::abs(ref_val) > 1e-6 * scale) ? 1.0 : 0.0;
-                };
+                auto fcl_bool_err = [&](const bench::FclQuery& q) { return bool_err(q.hit); };
                 // Distances are judged on separated pairs only, as cdkit's (a failed call counts as error 1).
                 auto dist_err = [&](const bench::FclQuery& q) {
                     return ref_hit ? 0.0 : q.ok ? std::abs(q.value - ref_c) / std::max(ref_c, 1e-12) : 1.0;
@@ -192,8 +271,8 @@ template <class Make> void run_family(const char* name, Make make, double scale,
                 auto pen_err = [&](const bench::FclQuery& q) {
                     return q.ok ? std::abs(q.value - ref_val) / std::max(ref_val, 1e-12) : 1.0;
                 };
-                row.fcl_indep_bool.add(fr.indep_bool.ns, 0, bool_err(fr.indep_bool));
-                row.fcl_ccd_bool.add(fr.ccd_bool.ns, 0, bool_err(fr.ccd_bool));
+                row.fcl_indep_bool.add(fr.indep_bool.ns, 0, fcl_bool_err(fr.indep_bool));
+                row.fcl_ccd_bool.add(fr.ccd_bool.ns, 0, fcl_bool_err(fr.ccd_bool));
                 row.fcl_indep_dist.add(fr.indep_dist.ns, 0, dist_err(fr.indep_dist));
                 row.fcl_ccd_dist.add(fr.ccd_dist.ns, 0, dist_err(fr.ccd_dist));
                 if (pen) {
@@ -449,7 +528,122 @@ inline void print_cells(std::vector<Cell>& cells, const char* title) {
 }
 }  // namespace real_hulls
 
-int main(int argc, char** argv) {
+namespace {
+
+/// One cell of the fair boolean table (issue 37): its columns in order, NaN where a variant did not run.
+struct FairCell {
+    std::string family, cls;
+    long configs = 0, cdkit_wrong = 0, libccd_wrong = 0;
+    std::vector<double> v;  // the numeric columns of fair_columns, in order
+};
+constexpr const char* fair_columns[] = {
+    "balls_decide", "cdkit_ns", "cdkit_it", "no_balls_ns", "no_containment_ns", "no_axes_ns", "no_momentum_ns",
+    "plain_ns", "plain_it", "libccd_gjk_ns", "libccd_hint_ns", "libccd_ball_ns", "libccd_mpr_ns", "default_vs_libccd",
+    "default_vs_libccd_ball", "plain_vs_libccd_hint"};
+constexpr int fair_n = int(sizeof fair_columns / sizeof fair_columns[0]);
+
+FairCell fair_cell(Row& r) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    auto med = [&](Stats& s) { return s.n ? s.pct(0.5) : nan; };
+    auto it = [&](Stats& s) { return s.n ? s.it / double(s.n) : nan; };
+    FairCell c{r.family, r.cls, r.cd_bool.n, r.cd_bool.wrong, r.ccd_gjk.wrong, {}};
+    for (Stats& s : r.cd_bool_off) c.cdkit_wrong += s.wrong;
+    const double cd = med(r.cd_bool), plain = med(r.cd_bool_off[off_all]);
+    c.v = {double(r.cd_bool_balls) / double(std::max(r.cd_bool.n, 1L)), cd, it(r.cd_bool),
+           med(r.cd_bool_off[off_balls]), med(r.cd_bool_off[off_containment]), med(r.cd_bool_off[off_axes]),
+           med(r.cd_bool_off[off_momentum]), plain, it(r.cd_bool_off[off_all]), med(r.ccd_gjk), med(r.ccd_gjk_hint),
+           med(r.ccd_gjk_ball), med(r.ccd_mpr), med(r.ccd_gjk) / cd, med(r.ccd_gjk_ball) / cd,
+           med(r.ccd_gjk_hint) / plain};
+    return c;
+}
+
+/// The cells and, per distance class, a `median` row: each column's median over the shape families.
+std::vector<FairCell> fair_cells(std::vector<Row>& rows) {
+    std::vector<FairCell> cells;
+    for (Row& r : rows) cells.push_back(fair_cell(r));
+    for (const char* cls : {"distant", "close", "overlapping"}) {
+        FairCell m{"median", cls, 0, 0, 0, std::vector<double>(fair_n, std::numeric_limits<double>::quiet_NaN())};
+        for (int j = 0; j < fair_n; ++j) {
+            std::vector<double> x;
+            for (const FairCell& c : cells)
+                if (c.cls == cls && c.family != "median" && !std::isnan(c.v[std::size_t(j)])) x.push_back(c.v[std::size_t(j)]);
+            if (x.empty()) continue;
+            std::sort(x.begin(), x.end());
+            const std::size_t h = x.size() / 2;
+            m.v[std::size_t(j)] = x.size() % 2 ? x[h] : (x[h - 1] + x[h]) / 2;
+        }
+        for (const FairCell& c : cells)
+            if (c.cls == cls && c.family != "median") {
+                m.configs += c.configs;
+                m.cdkit_wrong += c.cdkit_wrong;
+                m.libccd_wrong += c.libccd_wrong;
+            }
+        if (m.configs) cells.push_back(std::move(m));
+    }
+    return cells;
+}
+
+/// A column's value as the CSV and the table print it: ns to 0.1, fractions and ratios to 0.01, "" for NaN.
+std::string fair_value(int j, double x) {
+    if (std::isnan(x)) return "";
+    char buf[32];
+    const std::string name = fair_columns[j];
+    std::snprintf(buf, sizeof buf, name.ends_with("_ns") ? "%.1f" : "%.2f", x);
+    return buf;
+}
+
+void print_fair_table(std::vector<Row>& rows) {
+    std::printf("\nFair booleans (issue 37): median ns per call over the cell's configurations, each the fastest of 3 "
+                "interleaved batches;\n cdkit by default, with one pre-test off, and plain (all off, no momentum); "
+                "libccd GJK plain, with cdkit's hinted support (hint),\n and with that and cdkit's bounding-ball "
+                "pre-test (ball); balls = share the ball pre-test decided; ratios: libccd / cdkit\n");
+    std::printf("%-10s %-11s %5s | %7s %5s | %7s %7s %7s %7s | %7s %5s | %7s %7s %7s %7s | %7s %7s %7s | wrong\n",
+                "family", "class", "balls", "cdkit", "it", "-balls", "-contn", "-axes", "-momnt", "plain", "it",
+                "ccdGJK", "hint", "ball", "ccdMPR", "def/GJK", "def/bal", "pln/hnt");
+    for (const FairCell& c : fair_cells(rows)) {
+        std::printf("%-10s %-11s", c.family.c_str(), c.cls.c_str());
+        for (int j = 0; j < fair_n; ++j) {
+            const std::string v = fair_value(j, c.v[std::size_t(j)]);
+            std::printf(j == 0 ? " %5s" : (j == 1 || j == 3 || j == 7 || j == 9 || j == 13) ? " | %7s" : " %7s",
+                        v.empty() ? "-" : v.c_str());
+        }
+        std::printf(" | %ld %ld\n", c.cdkit_wrong, c.libccd_wrong);
+    }
+}
+
+void write_fair_csv(std::FILE* f, std::vector<Row>& rows) {
+    std::fprintf(f, "family,class,configs");
+    for (const char* name : fair_columns) std::fprintf(f, ",%s", name);
+    std::fprintf(f, ",cdkit_wrong,libccd_wrong\n");
+    for (const FairCell& c : fair_cells(rows)) {
+        std::fprintf(f, "%s,%s,%ld", c.family.c_str(), c.cls.c_str(), c.configs);
+        for (int j = 0; j < fair_n; ++j) std::fprintf(f, ",%s", fair_value(j, c.v[std::size_t(j)]).c_str());
+        std::fprintf(f, ",%ld,%ld\n", c.cdkit_wrong, c.libccd_wrong);
+    }
+}
+
+}  // namespace
+
+int main(int argc_all, char** argv_all) {
+    // Flags (anywhere): --p3-csv PATH (the fair boolean table, with provenance: results/p3.csv), --off LIST (the
+    // pre-test-off rows to time: a comma subset of balls,containment,axes,momentum,all, or none; default all of
+    // them). The other arguments are the positional ones of the usage line.
+    const char* p3_csv = nullptr;
+    std::vector<char*> positional{argv_all[0]};
+    for (int i = 1; i < argc_all; ++i) {
+        const std::string arg = argv_all[i];
+        if (arg == "--p3-csv" && i + 1 < argc_all) {
+            p3_csv = argv_all[++i];
+        } else if (arg == "--off" && i + 1 < argc_all) {
+            const std::string list = "," + std::string(argv_all[++i]) + ",";
+            for (int k = 0; k < off_count; ++k)
+                g_off_enabled[k] = list.find("," + std::string(off_names[k]) + ",") != std::string::npos;
+        } else {
+            positional.push_back(argv_all[i]);
+        }
+    }
+    const int argc = int(positional.size());
+    char** argv = positional.data();
     int configs = argc > 1 ? std::atoi(argv[1]) : 100;
     long checks = argc > 2 ? std::atol(argv[2]) : 1000000;
     const char* csv_path = argc > 3 && std::string(argv[3]) != "-" ? argv[3] : nullptr;
@@ -597,6 +791,17 @@ int main(int argc, char** argv) {
     }
     std::printf("(FCL booleans: box/box runs FCL's boxBoxIntersect (SAT) in both solvers, capsule/capsule distance its "
                 "closed form; indep boolean includes FCL's EPA on overlapping pairs)\n");
+    print_fair_table(rows);
+    if (p3_csv) {
+        if (std::FILE* f = std::fopen(p3_csv, "w")) {
+            cdbench::write_provenance(f, argc_all, argv_all);
+            write_fair_csv(f, rows);
+            std::fclose(f);
+            std::printf("wrote %s\n", p3_csv);
+        } else {
+            std::printf("cannot write %s\n", p3_csv);
+        }
+    }
     if (csv_path) {
         if (FILE* f = std::fopen(csv_path, "w")) {
             std::fprintf(f, "family,class,method,median_ns,p99_ns,mean_iterations,max_error,fraction_in_error,n\n");
