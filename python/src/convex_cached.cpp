@@ -92,16 +92,20 @@ void init_convex_cached(py::module_& m) {
         py::arg("settings") = py::none(),
         "Distance of two ConvexPolyhedra by walking their closest features from the cache's pair.");
 
-    py::class_<ToiRequest>(m, "ToiRequest", "Settings of convex_toi(): contact tolerance (absolute) and the advancement step cap.")
-        .def(py::init([](double tolerance, int max_iterations) {
+    py::class_<ToiRequest>(m, "ToiRequest",
+                           "Settings of convex_toi(): contact tolerance (absolute), the advancement step cap, and the "
+                           "separation at which contact counts (the shapes grown by it).")
+        .def(py::init([](double tolerance, int max_iterations, double separation) {
                  ToiRequest r;
                  r.tolerance = tolerance;
                  r.max_iterations = max_iterations;
+                 r.separation = separation;
                  return r;
              }),
-             py::arg("tolerance") = 1e-6, py::arg("max_iterations") = 512)
+             py::arg("tolerance") = 1e-6, py::arg("max_iterations") = 512, py::arg("separation") = 0.0)
         .def_readwrite("tolerance", &ToiRequest::tolerance)
-        .def_readwrite("max_iterations", &ToiRequest::max_iterations);
+        .def_readwrite("max_iterations", &ToiRequest::max_iterations)
+        .def_readwrite("separation", &ToiRequest::separation);
     py::class_<ToiResult>(m, "ToiResult", "Result of convex_toi(): no contact before `toi`.")
         .def_readonly("status", &ToiResult::status)
         .def_readonly("colliding", &ToiResult::colliding)

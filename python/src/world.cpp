@@ -212,14 +212,16 @@ void init_world(py::module_& m) {
              py::arg("options") = py::none())
         .def(
             "add",
-            [](World<double>& w, py::object shape, py::object pose_) {
+            [](World<double>& w, py::object shape, py::object pose_, double rounding) {
                 Shape<double> s = world_shape(shape);
+                if (rounding != 0) s = s.rounded(rounding);
                 const Pose p = pose(pose_, "pose");
                 return w.add(std::move(s), p);
             },
-            py::arg("shape"), py::arg("pose") = py::none(),
+            py::arg("shape"), py::arg("pose") = py::none(), py::arg("rounding") = 0.0,
             "Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron, "
-            "MeshModel, or a list of convex shapes or (shape, pose) pairs: a compound) at `pose`; returns its id. Raises "
+            "MeshModel, or a list of convex shapes or (shape, pose) pairs: a compound) at `pose`; returns its id. "
+            "`rounding` > 0 rounds a convex shape (its surface pushed out by that radius: a rounded box). Raises "
             "cdkit.Error for a pose that is not a rigid motion.")
         .def("remove", &World<double>::remove, py::arg("id"))
         .def(

@@ -66,6 +66,23 @@ def test_ccd_catches_a_tunnelling_sphere():
     assert r.contacts[0].toi == pytest.approx(0.425, abs=1e-3)  # centre at -0.15 = -1 + 2t
 
 
+def test_rounded_shapes():
+    """A box rounded by 0.05 resting 0.02 into a slab: depth 0.02 in closed form; bad radii raise cdkit.Error."""
+    world = cdkit.World()
+    ground = world.add(cdkit.Box([5, 5, 1]), translation(0.0, 0.0, -1.0))  # top face at z = 0
+    box = world.add(cdkit.Box([0.3, 0.3, 0.1]), translation(0.0, 0.0, 0.13), rounding=0.05)
+    r = world.step()
+    assert len(r.contacts) == 1 and (r.contacts[0].a, r.contacts[0].b) == (ground, box)
+    assert r.contacts[0].depth == pytest.approx(0.02, abs=1e-12)
+    assert r.contacts[0].normal[2] == pytest.approx(1.0, abs=1e-12)
+    with pytest.raises(cdkit.Error):
+        world.add(cdkit.Box([1, 1, 1]), None, rounding=-0.1)
+    v, f = cube()
+    with pytest.raises(cdkit.Error):
+        world.add(cdkit.MeshModel(v, f), None, rounding=0.1)  # only convex shapes round
+    assert cdkit.ToiRequest(separation=0.5).separation == 0.5
+
+
 def test_filters():
     world, ids = spheres_on_a_line(cdkit.BroadPhaseKind.sweep_and_prune)
     world.set_pair_tested(ids[0], ids[1], False)

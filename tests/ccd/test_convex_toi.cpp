@@ -168,4 +168,33 @@ TEST_CASE("convex TOI: bad poses and settings", "[ccd]") {
     cdkit::ToiRequest zero;
     zero.tolerance = 0;
     CHECK(cdkit::convex_toi(a, T(), T(), a, T(), T(), zero).status == cdkit::QueryStatus::invalid_input);
+    for (const double separation : {-1e-3, std::nan(""), std::numeric_limits<double>::infinity()}) {
+        cdkit::ToiRequest r;
+        r.separation = separation;
+        CHECK(cdkit::convex_toi(a, T(), T(), a, T(), T(), r).status == cdkit::QueryStatus::invalid_input);
+    }
+}
+
+TEST_CASE("convex TOI with a separation: the shapes grown by it, in closed form", "[ccd]") {
+    // The head-on spheres above with radii 0.5 and 0.25 less 0.2 each, and a separation of 0.4: the same contact time
+    // (gap 2 − x = 0.75 at x = 1.25, t = 11.25 / 20), translating (no ray cast then) and turning (the advancement).
+    const cdkit::Sphere<double> a(0.3), b(0.05);
+    cdkit::ToiRequest req;
+    req.separation = 0.4;
+    for (const bool turn : {false, true}) {
+        const T end(turn ? Eigen::AngleAxisd(1.0, V::UnitY()).toRotationMatrix() : cdkit::Mat3<double>::Identity(),
+                    V(10, 0, 0));
+        const auto r = cdkit::convex_toi(a, T::translation(V(-10, 0, 0)), end, b, T::translation(V(2, 0, 0)),
+                                         T::translation(V(2, 0, 0)), req);
+        INFO("turning: " << turn);
+        REQUIRE(r.status == cdkit::QueryStatus::ok);
+        REQUIRE(r.colliding);
+        CHECK(r.toi <= 11.25 / 20);
+        CHECK(r.toi >= 11.25 / 20 - 1e-6);
+        CHECK((r.point_b - r.point_a).norm() == Approx(0.4).margin(1e-6));  // the cores' points, separation apart
+    }
+    // Passing by 0.05 beyond the grown radii: no contact.
+    CHECK_FALSE(cdkit::convex_toi(a, T::translation(V(-10, 0.8, 0)), T::translation(V(10, 0.8, 0)), b,
+                                  T::translation(V(2, 0, 0)), T::translation(V(2, 0, 0)), req)
+                    .colliding);
 }

@@ -34,6 +34,10 @@ struct ToiRequest {
     /// (unless the query runs out of steps: `capped`).
     double tolerance = 1e-6;
     int max_iterations = 512;  ///< advancement steps before the query gives up (then `capped`, contact assumed)
+    /// Contact when the distance falls to `separation` (≥ 0, finite) plus the tolerance: the time of impact of the
+    /// shapes grown by it (rounded shapes, whose roundings add up to it: World), or of a gap a simulator keeps.
+    /// Above 0 the query advances on distances (no ray cast); the points are the cores', `separation` apart.
+    double separation = 0;
 };
 
 struct ToiResult {
@@ -139,12 +143,12 @@ template <class DistanceAt>
         const AdvanceStep g = distance_at(ma.at(t), mb.at(t));
         out.point_a = g.point_a, out.point_b = g.point_b, out.normal = g.normal;
         out.toi = t;
-        if (g.contact || g.distance <= request.tolerance) {
+        if (g.contact || g.distance - request.separation <= request.tolerance) {
             out.colliding = true;  // contact, or a query that could not certify a separation: conservative
             return out;
         }
         // The distances hold to a relative tolerance of their query; the advancement uses a slightly smaller one.
-        const double d = g.distance * (1 - 1e-8) - request.tolerance * 0.5;
+        const double d = g.distance * (1 - 1e-8) - request.separation - request.tolerance * 0.5;
         const double approach =
             separating_normal ? std::max(0.0, (ma.velocity - mb.velocity).dot(g.normal)) +
                                     g.normal.cross(omega_a).norm() * radius_a + g.normal.cross(omega_b).norm() * radius_b
@@ -168,7 +172,8 @@ template <class DistanceAt>
 [[nodiscard]] inline QueryStatus toi_inputs_usable(std::initializer_list<const Transform<double>*> poses,
                                                    const ToiRequest& request) noexcept {
     if (!motion_poses_usable(poses)) return QueryStatus::invalid_pose;
-    if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.max_iterations < 1)
+    if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.max_iterations < 1 ||
+        !(request.separation >= 0) || !std::isfinite(request.separation))
         return QueryStatus::invalid_input;
     return QueryStatus::ok;
 }
@@ -223,7 +228,7 @@ template <SupportMapped A, SupportMapped B>
 }  // namespace detail
 
 /// First time in [0, 1] at which `a` (moving from pose a_start to a_end) and `b` (b_start to b_end) come within
-/// request.tolerance: by conservative advancement on GJK distance with a warm-started cache when either shape
+/// request.tolerance (plus request.separation): by conservative advancement on GJK distance with a warm-started cache when either shape
 /// turns, by a GJK ray cast when both only translate (the shape cast). Const, thread-safe.
 template <SupportMapped A, SupportMapped B>
     requires std::same_as<typename A::Scalar, double> && std::same_as<typename B::Scalar, double>
@@ -234,7 +239,7 @@ template <SupportMapped A, SupportMapped B>
     out.status = detail::toi_inputs_usable({&a_start, &a_end, &b_start, &b_end}, request);
     if (out.status != QueryStatus::ok) return out;
     const detail::PoseMotion ma(a_start, a_end), mb(b_start, b_end);
-    if (ma.angle == 0 && mb.angle == 0) return detail::convex_shape_cast(a, ma, b, mb, request);
+    if (ma.angle == 0 && mb.angle == 0 && request.separation == 0) return detail::convex_shape_cast(a, ma, b, mb, request);
     return detail::convex_toi_advancement(a, ma, b, mb, request);
 }
 

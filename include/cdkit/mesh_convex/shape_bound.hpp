@@ -39,6 +39,7 @@ namespace detail {
 
 template <class C> inline constexpr bool is_sphere_v = std::is_same_v<C, cdkit::Sphere<typename C::Scalar>>;
 template <class C> inline constexpr bool is_capsule_v = std::is_same_v<C, cdkit::Capsule<typename C::Scalar>>;
+template <class C> inline constexpr bool is_box_v = std::is_same_v<C, cdkit::Box<typename C::Scalar>>;
 
 /// The shape (local frame) placed in the mesh frame by `pose`, bounded. S: the mesh's scalar.
 template <class S> struct ShapeBound {
@@ -100,7 +101,7 @@ template <SupportMapped C, class S>
     b.box.axes = pose.R;
     b.box.center = pose * c;
     b.box.half = b.local_half;
-    b.box_is_shape = std::is_same_v<C, cdkit::Box<S>>;
+    b.box_is_shape = is_box_v<C>;
     if constexpr (is_sphere_v<C>) {
         b.swept = true;
         b.seg0 = b.seg1 = pose.t;

@@ -9,9 +9,12 @@
 /// point on a triangle, §5.1.9 segment–segment): a sphere is its centre's distance to the triangle, a capsule its
 /// segment's distance (zero where the segment crosses the triangle, otherwise the smallest of the three
 /// edge–segment and the two end point–face distances), each against the radius. They need no iteration and no
-/// touching tolerance beyond the rounding of a few products. The brute-force reference runs these same functions
-/// on every triangle, so the tree query's answer is the reference's exactly.
+/// touching tolerance beyond the rounding of a few products. A box's boolean is its separating-axis test against the
+/// triangle (mesh_convex/box_triangle.hpp: 13 axes, Akenine-Möller 2001); GJK/EPA then only place its witness. The
+/// brute-force reference runs these same functions on every triangle, so the tree query's answer is the reference's
+/// exactly.
 
+#include "cdkit/mesh_convex/box_triangle.hpp"
 #include "cdkit/mesh_convex/shape_bound.hpp"
 #include "cdkit/narrowphase/epa.hpp"
 #include "cdkit/narrowphase/gjk.hpp"
@@ -139,6 +142,27 @@ template <SupportMapped C, class S>
     return plane_gap(t0, t1, t2, shape, b) > b.slack;
 }
 
+/// A point of the triangle (mesh frame) in or on the shape, for a pair known to touch or overlap: EPA's deepest
+/// point of the triangle when they overlap, else the middle of GJK's closest points (touching, or apart by no more
+/// than the box test's slack). `g` is GJK's boolean answer on the pair.
+template <SupportMapped C, class S>
+[[nodiscard]] Vec3<S> gjk_witness(const ConvexTriangle<S>& tri, const C& shape, const ShapeBound<S>& b,
+                                  const GjkResult<S>& g) noexcept {
+    if (g.status == GjkStatus::intersecting) return penetration(tri, Transform<S>{}, shape, b.pose, g).point_a;
+    if (g.status == GjkStatus::touching) return (g.point_a + g.point_b) * S(0.5);
+    const GjkResult<S> d = gjk_distance(tri, Transform<S>{}, shape, b.pose);
+    return (d.point_a + d.point_b) * S(0.5);
+}
+
+/// A box's boolean against the triangle (mesh frame): the separating-axis test in the box's frame.
+template <class S>
+[[nodiscard]] inline bool box_touches_triangle(const Box<S>& box, const ShapeBound<S>& b, const Vec3<S>& t0,
+                                               const Vec3<S>& t1, const Vec3<S>& t2) noexcept {
+    const Mat3<S> to_box = b.pose.R.transpose();
+    return box_triangle_touch(box.half, Vec3<S>(to_box * (t0 - b.pose.t)), Vec3<S>(to_box * (t1 - b.pose.t)),
+                              Vec3<S>(to_box * (t2 - b.pose.t)), b.slack);
+}
+
 /// Does the triangle (mesh frame) touch or cross the shape? `witness` (optional): a point of the triangle in the
 /// shape, written on a hit (for GJK-tested shapes from EPA's witnesses, which costs an EPA run).
 template <SupportMapped C, class S>
@@ -149,20 +173,20 @@ template <SupportMapped C, class S>
         if (!(c.dist2 <= b.radius * b.radius)) return false;
         if (witness) *witness = c.on_triangle;
         return true;
+    } else if constexpr (is_box_v<C>) {
+        if (!box_touches_triangle(shape, b, t0, t1, t2)) return false;
+        if (witness) {
+            const ConvexTriangle<S> tri(t0, t1, t2);
+            *witness = gjk_witness(tri, shape, b, gjk_intersect(tri, Transform<S>{}, shape, b.pose));
+        }
+        return true;
     } else {
         if (b.centre_gap(closest_on_triangle(b.center, t0, t1, t2)) > b.slack || plane_separates(t0, t1, t2, shape, b))
             return false;
         const ConvexTriangle<S> tri(t0, t1, t2);  // vertices were validated with the mesh
         const GjkResult<S> g = gjk_intersect(tri, Transform<S>{}, shape, b.pose);
         if (!(g.status == GjkStatus::touching || g.status == GjkStatus::intersecting)) return false;
-        if (witness) {
-            if (g.status == GjkStatus::touching) {
-                *witness = (g.point_a + g.point_b) * S(0.5);
-            } else {
-                const PenetrationResult<S> p = penetration(tri, Transform<S>{}, shape, b.pose, g);
-                *witness = p.point_a;  // the triangle's deepest point: inside the shape
-            }
-        }
+        if (witness) *witness = gjk_witness(tri, shape, b, g);
         return true;
     }
 }
@@ -178,6 +202,16 @@ template <SupportMapped C, class S>
         return {d - b.radius, c.on_triangle, Vec3<S>(c.on_segment + (c.on_triangle - c.on_segment) * (b.radius / d))};
     } else {
         const ConvexTriangle<S> tri(t0, t1, t2);
+        if constexpr (is_box_v<C>) {
+            // Distance 0 exactly where the boolean says touching (the separating-axis test); apart by more than the
+            // slack otherwise, even where GJK's own tolerance would call the pair touching.
+            if (box_touches_triangle(shape, b, t0, t1, t2)) {
+                const Vec3<S> m = gjk_witness(tri, shape, b, gjk_intersect(tri, Transform<S>{}, shape, b.pose));
+                return {S(0), m, m};
+            }
+            const GjkResult<S> g = gjk_distance(tri, Transform<S>{}, shape, b.pose);
+            return {std::max(g.distance, b.slack), g.point_a, g.point_b};
+        }
         const GjkResult<S> g = gjk_distance(tri, Transform<S>{}, shape, b.pose);
         if (g.status == GjkStatus::touching || g.status == GjkStatus::intersecting) {
             // Touching: GJK's closest points; overlapping: EPA's deepest point of the triangle (inside the shape).

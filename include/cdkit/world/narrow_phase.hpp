@@ -171,6 +171,83 @@ template <class S> WorldContact<S> with_witness(WorldContact<S> w) {
     return w;
 }
 
+/// A convex pair's contact from the manifold of their cores (shapes without rounding: the shapes themselves).
+template <class S> WorldContact<S> manifold_contact(const ContactManifold<S>& m) {
+    WorldContact<S> w;
+    w.method = PairMethod::convex_convex;
+    w.colliding = m.colliding;
+    w.distance = m.distance;
+    w.has_depth = true;
+    w.normal = m.normal;
+    w.point_count = m.count;
+    w.points = m.points;
+    w.gjk_iterations = m.stats.gjk_iterations;
+    return w;
+}
+
+/// The deepest of the contact's points fills depth, point_a and point_b.
+template <class S> void take_deepest_point(WorldContact<S>& w) {
+    int deepest = 0;
+    for (int i = 1; i < w.point_count; ++i)
+        if (w.points[i].depth > w.points[deepest].depth) deepest = i;
+    w.depth = std::max(w.points[deepest].depth, S(0));
+    w.point_a = w.points[deepest].point_a;
+    w.point_b = w.points[deepest].point_b;
+}
+
+/// A contact of the cores of two rounded shapes (radii ra, rb; found within margin + ra + rb) made the rounded
+/// shapes' contact: every depth grows by ra + rb, a's points move by ra along the normal and b's back by rb; points
+/// apart by more than the margin are dropped. Nothing when none is left.
+template <class S> std::optional<WorldContact<S>> rounded_contact(WorldContact<S> w, S ra, S rb, S margin) {
+    const S r = ra + rb;
+    int kept = 0;
+    for (int i = 0; i < w.point_count; ++i) {
+        ManifoldPoint<S> p = w.points[i];
+        p.depth += r;
+        if (p.depth < -margin) continue;
+        p.point_a += ra * w.normal;
+        p.point_b -= rb * w.normal;
+        w.points[kept++] = p;
+    }
+    if (kept == 0) return std::nullopt;
+    w.point_count = kept;
+    w.colliding = w.colliding || w.distance <= r;
+    w.distance = w.colliding ? S(0) : w.distance - r;
+    take_deepest_point(w);
+    return w;
+}
+
+/// A rounded convex shape (core `c`, radius `r` > 0) against a mesh: the core's mesh–convex contact (its depth and
+/// point grown by r) where the core touches the mesh, else the core's distance to the mesh against r (a contact of
+/// depth r − d, or a speculative one within the margin), along the closest points' direction.
+template <class S, class Convex>
+std::optional<WorldContact<S>> rounded_convex_vs_mesh(const Convex& c, S r, const Transform<S>& pose_c,
+                                                      const WorldMeshModel<S>& m, const Transform<S>& pose_m,
+                                                      bool convex_first, bool with_depth, S margin) {
+    if (auto w = convex_vs_mesh(c, pose_c, m, pose_m, convex_first, with_depth)) {
+        if (w->has_depth) {
+            w->depth += r;
+            // The normal runs from a to b; the shape's point moves by r towards the mesh.
+            (convex_first ? w->point_a : w->point_b) += (convex_first ? r : -r) * w->normal;
+        }
+        return w;
+    }
+    const MeshConvexDistanceResult<S> d = distance(m, pose_m, c, pose_c);
+    if (!(d.distance <= r + margin) || !(d.distance > S(0))) return std::nullopt;
+    const Vec3<S> u = (d.point_mesh - d.point_shape) / d.distance;  // from the core towards the mesh
+    const Vec3<S> on_shape = d.point_shape + r * u;
+    WorldContact<S> w;
+    w.method = PairMethod::convex_mesh;
+    w.colliding = d.distance <= r;
+    w.distance = w.colliding ? S(0) : d.distance - r;
+    w.has_depth = w.colliding;
+    w.depth = w.colliding ? r - d.distance : S(0);
+    w.normal = convex_first ? u : Vec3<S>(-u);
+    w.point_a = convex_first ? on_shape : d.point_mesh;
+    w.point_b = convex_first ? d.point_mesh : on_shape;
+    return w;
+}
+
 template <class S>
 std::optional<WorldContact<S>> deepest_child_contact(ObjectId id_a, const Shape<S>& a, const Transform<S>& pose_a,
                                                      ObjectId id_b, const Shape<S>& b, const Transform<S>& pose_b,
@@ -194,25 +271,17 @@ template <class S>
     const S margin = S(request.margin);
     std::optional<WorldContact<S>> out;
     if (a.is_convex() && b.is_convex()) {
+        // Rounded shapes: the cores' manifold within the margin plus both roundings, then grown (rounded_contact).
+        const S ra = a.rounding(), rb = b.rounding();
+        ManifoldRequest core_request = request;
+        core_request.margin = request.margin + double(ra + rb);
         out = a.visit_convex([&](const auto& ca) {
             return b.visit_convex([&](const auto& cb) -> std::optional<WorldContact<S>> {
-                const ContactManifold<S> m = contact_manifold(ca, pa, cb, pb, request, cache);
+                const ContactManifold<S> m = contact_manifold(ca, pa, cb, pb, core_request, cache);
                 if (m.count == 0) return std::nullopt;
-                WorldContact<S> w;
-                w.method = PairMethod::convex_convex;
-                w.colliding = m.colliding;
-                w.distance = m.distance;
-                w.has_depth = true;
-                w.normal = m.normal;
-                int deepest = 0;
-                for (int i = 1; i < m.count; ++i)
-                    if (m.points[i].depth > m.points[deepest].depth) deepest = i;
-                w.depth = std::max(m.points[deepest].depth, S(0));
-                w.point_a = m.points[deepest].point_a;
-                w.point_b = m.points[deepest].point_b;
-                w.point_count = m.count;
-                w.points = m.points;
-                w.gjk_iterations = m.stats.gjk_iterations;
+                WorldContact<S> w = detail::manifold_contact(m);
+                if (ra + rb > S(0)) return detail::rounded_contact(w, ra, rb, margin);
+                detail::take_deepest_point(w);
                 return w;
             });
         });
@@ -230,6 +299,9 @@ template <class S>
         const Transform<S>& pc = convex_first ? pa : pb;
         const Transform<S>& pm = convex_first ? pb : pa;
         out = convex.visit_convex([&](const auto& c) -> std::optional<WorldContact<S>> {
+            if (convex.rounding() > S(0))
+                return detail::rounded_convex_vs_mesh(c, convex.rounding(), pc, mesh.mesh_model(), pm, convex_first,
+                                                      request.mesh_depth, margin);
             if (auto w = detail::convex_vs_mesh(c, pc, mesh.mesh_model(), pm, convex_first, request.mesh_depth)) return w;
             if (!(margin > S(0))) return std::nullopt;
             const MeshConvexDistanceResult<S> d = distance(mesh.mesh_model(), pm, c, pc);
@@ -354,15 +426,16 @@ template <class S>
     if (a.is_convex() && b.is_convex()) {
         return a.visit_convex([&](const auto& ca) {
             return b.visit_convex([&](const auto& cb) -> std::optional<WorldContact<S>> {
-                const ToiResult r = convex_toi(ca, sa, ea, cb, sb, eb);
+                // Rounded shapes: the cores' time of impact at the sum of the roundings, the points moved out by them.
+                const ToiResult r = convex_toi(ca, sa, ea, cb, sb, eb, ToiRequest{.separation = double(a.rounding() + b.rounding())});
                 if (!r.colliding) return std::nullopt;
                 WorldContact<S> w;
                 w.a = id_a, w.b = id_b;
                 w.method = PairMethod::convex_convex;
                 w.has_depth = true;  // touching at toi: depth 0
                 w.normal = r.normal;
-                w.point_a = r.point_a;
-                w.point_b = r.point_b;
+                w.point_a = r.point_a + a.rounding() * r.normal;
+                w.point_b = r.point_b - b.rounding() * r.normal;
                 w.gjk_iterations = r.iterations;
                 w.toi = r.toi;
                 return detail::with_witness(w);
@@ -390,13 +463,15 @@ template <class S>
     const bool mesh_first = !a.is_convex();
     const Shape<S>& mesh = mesh_first ? a : b;
     const Shape<S>& convex = mesh_first ? b : a;
+    const ToiRequest toi_request{.separation = double(convex.rounding())};  // a rounded shape's core, as above
     const ToiResult r = convex.visit_convex([&](const auto& c) {
-        return mesh_first ? mesh_convex_toi(mesh.mesh_model(), sa, ea, c, sb, eb)
-                          : mesh_convex_toi(mesh.mesh_model(), sb, eb, c, sa, ea);
+        return mesh_first ? mesh_convex_toi(mesh.mesh_model(), sa, ea, c, sb, eb, toi_request)
+                          : mesh_convex_toi(mesh.mesh_model(), sb, eb, c, sa, ea, toi_request);
     });
     if (!r.colliding) return std::nullopt;
     w.method = PairMethod::convex_mesh;
-    w.point_a = w.point_b = (r.point_a + r.point_b) / 2;
+    // The witness: on the mesh, the closest point (r.point_a); a rounded core's point moved out towards it.
+    w.point_a = w.point_b = convex.rounding() > S(0) ? r.point_a : Vec3<S>((r.point_a + r.point_b) / 2);
     w.toi = r.toi;
     return detail::with_witness(w);
 }

@@ -14,6 +14,7 @@
 #include "cdkit/narrowphase/convex_shapes.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <variant>
@@ -105,6 +106,24 @@ public:
         return s;
     }
 
+    /// The same convex shape with its surface pushed out by `radius` (the Minkowski sum with a ball of that radius:
+    /// a rounded box, a rounded hull; rounding a sphere or capsule grows its radius). Roundings add up. A pair's
+    /// contacts are those of the cores within the sum of the two roundings, so no new shape type is made (GJK's margin
+    /// idea: van den Bergen, "Collision Detection in Interactive 3D Environments", 2003, §4.3.6). Throws cdkit::Error
+    /// for a mesh or compound, or a negative or non-finite radius.
+    [[nodiscard]] Shape rounded(S radius) const {
+        if (!is_convex())
+            throw Error("<world>", "rounded shape", std::string("a ") + to_string(kind()) + " (only convex shapes can be rounded)");
+        if (!(radius >= S(0)) || !std::isfinite(radius))
+            throw Error("<world>", "rounded shape", "the radius must be finite and >= 0");
+        Shape s = *this;
+        s.rounding_ += radius;
+        s.local_ = Aabb<S>{local_.center, Vec3<S>(local_.half.array() + radius)};
+        return s;
+    }
+    /// The rounding radius (0 unless `rounded`).
+    [[nodiscard]] S rounding() const noexcept { return rounding_; }
+
     [[nodiscard]] ShapeKind kind() const noexcept { return ShapeKind(value_.index()); }
     [[nodiscard]] bool is_convex() const noexcept { return kind() != ShapeKind::mesh && kind() != ShapeKind::compound; }
     [[nodiscard]] bool is_compound() const noexcept { return kind() == ShapeKind::compound; }
@@ -192,9 +211,10 @@ private:
     }
 
     Value value_;
-    Aabb<S> local_;
+    Aabb<S> local_;  ///< grown by the rounding
     Transform<S> offset_{};
     bool has_offset_ = false;
+    S rounding_ = S(0);
 };
 
 /// The children of a compound Shape and a small bounding-box tree over them (median splits of the children's boxes,

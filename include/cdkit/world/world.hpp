@@ -238,7 +238,8 @@ private:
                 // its local box (its corners' farthest), a convex shape's from its support map.
                 const Aabb<S>& lb = o.shape->local_bounds();
                 const double r = o.shape->is_convex()
-                                     ? o.shape->visit_convex([](const auto& c) { return detail::radius_about_origin(c); })
+                                     ? o.shape->visit_convex([](const auto& c) { return detail::radius_about_origin(c); }) +
+                                           double(o.shape->rounding())
                                      : (lb.center.cwiseAbs() + lb.half).norm() * (1 + 1e-12);
                 const Vec3<S> c0 = o.shape->placed(o.step_start).t, c1 = o.shape->placed(o.pose).t;
                 box.lo = box.lo.cwiseMin(Vec3<S>(c0.cwiseMin(c1).array() - r));
