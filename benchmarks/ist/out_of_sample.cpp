@@ -17,8 +17,9 @@
 //       other mesh   another mesh of the run, derived at c = |δ| and the same sphere count, given to this mesh
 //                    as a fixed α (PackingOptions::depth_calibration_strength = α: one more packing).
 //
-// Per row: median and max |relative error|, mean signed and mean |relative error| over the poses, and the
-// in-sample row's median and mean signed beside it.
+// Per row: median and max |relative error|, mean signed and mean |relative error| over the poses; beside it the
+// in-sample row's median and mean signed, and those of the plain cell weights (no depth calibration, α = 0:
+// one more packing) at the same mesh, count and δ.
 #include "out_of_sample.hpp"
 
 #include "../provenance.hpp"
@@ -149,6 +150,7 @@ struct Row {
     double alpha_depth = 0, alpha = 0;
     Errors err;
     Errors in_sample;  // the in-sample row of the same mesh, count and δ
+    Errors plain;      // the plain cell weights (α = 0) at the same mesh, count and δ
 };
 
 InnerSphereTree tree_of(const TriangleMesh<double>& mesh, std::size_t count, double strength, double contact_depth, double* alpha) {
@@ -179,6 +181,7 @@ int run_out_of_sample(const OutOfSampleOptions& o, int argc, char** argv) {
     }
 
     std::vector<Row> rows;
+    std::map<std::tuple<std::string, std::size_t, double>, Errors> plain;  // (mesh, spheres, δ)
     std::printf("\n## Derived α per contact depth c\n\n| mesh | spheres |");
     for (double c : o.depths) std::printf(" α (c = %g) |", c);
     std::printf(" pack s (all) |\n|---|---:|");
@@ -197,10 +200,13 @@ int run_out_of_sample(const OutOfSampleOptions& o, int argc, char** argv) {
             for (std::size_t c = 0; c < D; ++c) std::printf(" %.3f |", alpha[m][c]);
             std::printf(" %.1f |\n", wall_seconds() - t0);
             std::fflush(stdout);
+            const InnerSphereTree zero = tree_of(mc.mesh, count, 0.0, o.depths[0], nullptr);
+            for (std::size_t k = 0; k < D; ++k)
+                plain[{mc.label, zero.spheres().size(), -o.depths[k]}] = evaluate(zero, mc.pose[k], mc.reference[k]);
             for (std::size_t k = 0; k < D; ++k)
                 for (std::size_t c = 0; c < D; ++c) {
                     Row r{mc.label, own[c].spheres().size(), -o.depths[k], c == k ? "in-sample" : "other depth", mc.label,
-                          o.depths[c], alpha[m][c], evaluate(own[c], mc.pose[k], mc.reference[k]), {}};
+                          o.depths[c], alpha[m][c], evaluate(own[c], mc.pose[k], mc.reference[k]), {}, {}};
                     rows.push_back(r);
                 }
         }
@@ -211,39 +217,40 @@ int run_out_of_sample(const OutOfSampleOptions& o, int argc, char** argv) {
                 for (std::size_t k = 0; k < D; ++k) {
                     const InnerSphereTree t = tree_of(cases[m].mesh, count, alpha[src][k], o.depths[k], nullptr);
                     rows.push_back({cases[m].label, t.spheres().size(), -o.depths[k], "other mesh", cases[src].label,
-                                    o.depths[k], alpha[src][k], evaluate(t, cases[m].pose[k], cases[m].reference[k]), {}});
+                                    o.depths[k], alpha[src][k], evaluate(t, cases[m].pose[k], cases[m].reference[k]), {}, {}});
                 }
             }
     }
     for (Row& r : rows)
         for (const Row& s : rows)
             if (s.kind == "in-sample" && s.mesh == r.mesh && s.spheres == r.spheres && s.delta == r.delta) r.in_sample = s.err;
+    for (Row& r : rows) r.plain = plain.at({r.mesh, r.spheres, r.delta});
     std::stable_sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
         auto rank = [](const std::string& k) { return k == "in-sample" ? 0 : k == "other depth" ? 1 : 2; };
         return std::make_tuple(a.mesh, a.spheres, -a.delta, rank(a.kind)) < std::make_tuple(b.mesh, b.spheres, -b.delta, rank(b.kind));
     });
 
     std::printf("\n## Calibrated error against the line reference, by the source of α\n\n"
-                "|relative error| median / max, mean signed, mean |error| over the poses; the in-sample row's median and "
-                "mean signed beside.\n\n"
-                "| mesh | spheres | δ | α from | α mesh | α depth c | α | poses | median | max | mean signed | mean abs | in-sample median | in-sample mean signed |\n"
-                "|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                "|relative error| median / max, mean signed, mean |error| over the poses; the in-sample row's and the plain "
+                "cell weights' (α = 0) median and mean signed beside.\n\n"
+                "| mesh | spheres | δ | α from | α mesh | α depth c | α | poses | median | max | mean signed | mean abs | in-sample median | in-sample mean signed | plain median | plain mean signed |\n"
+                "|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const Row& r : rows)
-        std::printf("| %s | %zu | %g | %s | %s | %g | %.3f | %d | %.1f%% | %.1f%% | %+.1f%% | %.1f%% | %.1f%% | %+.1f%% |\n",
+        std::printf("| %s | %zu | %g | %s | %s | %g | %.3f | %d | %.1f%% | %.1f%% | %+.1f%% | %.1f%% | %.1f%% | %+.1f%% | %.1f%% | %+.1f%% |\n",
                     r.mesh.c_str(), r.spheres, r.delta, r.kind.c_str(), r.alpha_mesh.c_str(), r.alpha_depth, r.alpha, r.err.poses,
                     100 * r.err.median_abs, 100 * r.err.max_abs, 100 * r.err.mean_signed, 100 * r.err.mean_abs,
-                    100 * r.in_sample.median_abs, 100 * r.in_sample.mean_signed);
+                    100 * r.in_sample.median_abs, 100 * r.in_sample.mean_signed, 100 * r.plain.median_abs, 100 * r.plain.mean_signed);
     if (!o.csv.empty()) {
         std::FILE* f = std::fopen(o.csv.c_str(), "w");
         if (!f) throw Error(o.csv, "", "cannot open for writing");
         write_provenance(f, argc, argv);
         std::fprintf(f, "mesh,spheres,delta,alpha_from,alpha_mesh,alpha_depth,alpha,poses,median_pct,max_pct,mean_signed_pct,"
-                        "mean_abs_pct,in_sample_median_pct,in_sample_mean_signed_pct\n");
+                        "mean_abs_pct,in_sample_median_pct,in_sample_mean_signed_pct,plain_median_pct,plain_mean_signed_pct\n");
         for (const Row& r : rows)
-            std::fprintf(f, "%s,%zu,%g,%s,%s,%g,%.3f,%d,%.1f,%.1f,%+.1f,%.1f,%.1f,%+.1f\n", r.mesh.c_str(), r.spheres, r.delta,
+            std::fprintf(f, "%s,%zu,%g,%s,%s,%g,%.3f,%d,%.1f,%.1f,%+.1f,%.1f,%.1f,%+.1f,%.1f,%+.1f\n", r.mesh.c_str(), r.spheres, r.delta,
                          r.kind.c_str(), r.alpha_mesh.c_str(), r.alpha_depth, r.alpha, r.err.poses, 100 * r.err.median_abs,
                          100 * r.err.max_abs, 100 * r.err.mean_signed, 100 * r.err.mean_abs, 100 * r.in_sample.median_abs,
-                         100 * r.in_sample.mean_signed);
+                         100 * r.in_sample.mean_signed, 100 * r.plain.median_abs, 100 * r.plain.mean_signed);
         std::fclose(f);
     }
     return 0;
