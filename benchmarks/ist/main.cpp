@@ -30,7 +30,12 @@
 //   --packing: instead, per sphere count, the packing with the look-ahead (K) against without (0), in one
 //   run: coverage, its first 1k spheres, and process CPU time (depth calibration off: it does not move the
 //   spheres), with the ratios.
+//   --out-of-sample: instead, the calibrated error where α was not derived (out_of_sample.cpp): per mesh (every
+//   --mesh given; default the bunny, the Armadillo and, when fetched, the 871k dragon), sphere count (--counts,
+//   default 1k and 10k) and δ ∈ −(--depths, default 0.01,0.05,0.2), α derived at the same depth (in-sample),
+//   at the other depths, and on the other meshes; --poses (default 8) per δ, --lines (default 256), --csv.
 #include "../thread_cpu_clock.hpp"
+#include "out_of_sample.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/io/load_mesh.hpp"
@@ -295,12 +300,14 @@ int main(int argc, char** argv) {
     double contact_depth = 0;
     long samples = -1;
     int line_grid = -1;
-    bool gaps = false, packing_only = false;
+    bool gaps = false, packing_only = false, out_of_sample = false;
+    std::vector<std::string> meshes;
+    std::vector<double> depths;
     double lookahead = PackingOptions{}.lookahead;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") quick = true;
-        else if (a == "--mesh" && i + 1 < argc) mesh_path = argv[++i];
+        else if (a == "--mesh" && i + 1 < argc) mesh_path = argv[++i], meshes.push_back(mesh_path);
         else if (a == "--poses" && i + 1 < argc) poses = std::atoi(argv[++i]);
         else if (a == "--samples" && i + 1 < argc) samples = std::atol(argv[++i]);
         else if (a == "--lines" && i + 1 < argc) line_grid = std::atoi(argv[++i]);
@@ -322,11 +329,41 @@ int main(int argc, char** argv) {
         else if (a == "--contact-depth" && i + 1 < argc) contact_depth = std::atof(argv[++i]);
         else if (a == "--lookahead" && i + 1 < argc) lookahead = std::atof(argv[++i]);
         else if (a == "--packing") packing_only = true;
+        else if (a == "--out-of-sample") out_of_sample = true;
+        else if (a == "--depths" && i + 1 < argc) {
+            for (const char* p = argv[++i]; *p;) {
+                char* end = nullptr;
+                depths.push_back(std::strtod(p, &end));
+                if (end == p) break;
+                p = *end == ',' ? end + 1 : end;
+            }
+        }
         else {
             std::fprintf(stderr, "usage: cdkit_bench_ist [--quick] [--mesh PATH] [--poses N] [--samples N] [--lines N] [--csv PATH] [--plots DIR] [--gaps]\n"
                          "                       [--counts N,M,...] [--[no-]depth-calibration] [--calibration-iterations N]\n"
-                         "                       [--calibration-strength A] [--contact-depth F] [--lookahead K] [--packing]\n");
+                         "                       [--calibration-strength A] [--contact-depth F] [--lookahead K] [--packing]\n"
+                         "                       [--out-of-sample [--depths F,G,...]]\n");
             return 2;
+        }
+    }
+    if (out_of_sample) {
+        cdbench::OutOfSampleOptions o;
+        o.meshes = meshes;
+        if (o.meshes.empty()) {
+            const std::string data = std::string(CDKIT_BENCH_SOURCE_DIR) + "/data/";
+            o.meshes = {data + "bunny.obj", data + "armadillo.obj"};
+            if (std::ifstream(data + "dragon/dragon_871k.ply")) o.meshes.push_back(data + "dragon/dragon_871k.ply");
+        }
+        o.counts = !user_counts.empty() ? user_counts : std::vector<std::size_t>{1000, 10000};
+        if (!depths.empty()) o.depths = depths;
+        if (poses > 0) o.poses = poses;
+        if (line_grid > 0) o.line_grid = line_grid;
+        o.csv = csv;
+        try {
+            return cdbench::run_out_of_sample(o, argc, argv);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "cdkit_bench_ist: %s\n", e.what());
+            return 1;
         }
     }
     if (poses < 0) poses = quick ? 8 : 24;
