@@ -911,10 +911,11 @@ class SweepAndPrune:
         """Every overlapping pair of boxes as a (K,2) int64 array, rows (a, b) with a < b, sorted."""
 
 class ToiRequest:
-    """Settings of convex_toi(): contact tolerance (absolute) and the advancement step cap."""
-    def __init__(self, tolerance: float = 1e-06, max_iterations: int = 512) -> None: ...
+    """Settings of convex_toi(): contact tolerance (absolute), the advancement step cap, and the separation at which contact counts (the shapes grown by it)."""
+    def __init__(self, tolerance: float = 1e-06, max_iterations: int = 512, separation: float = 0.0) -> None: ...
     tolerance: float
     max_iterations: int
+    separation: float
 
 class ToiResult:
     """Result of convex_toi(): no contact before `toi`."""
@@ -959,8 +960,8 @@ class UniformGrid:
 class World:
     """Objects with a shape and a pose; step() runs broad phase, interest matrix and narrow phase. Not reentrant: one World per thread (the GIL is released during step())."""
     def __init__(self, options: WorldOptions | None = None) -> None: ...
-    def add(self, shape: Sphere | Box | Capsule | ConvexPolyhedron | MeshModel, pose: Pose | None = None) -> int:
-        """Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron, MeshModel, or a list of convex shapes or (shape, pose) pairs: a compound) at `pose`; returns its id. Raises cdkit.Error for a pose that is not a rigid motion."""
+    def add(self, shape: Sphere | Box | Capsule | ConvexPolyhedron | MeshModel, pose: Pose | None = None, rounding: float = 0.0) -> int:
+        """Adds an object (Sphere, Box, Capsule, Cylinder, Cone, Ellipsoid, ConvexTriangle, ConvexPolyhedron, MeshModel, or a list of convex shapes or (shape, pose) pairs: a compound) at `pose`; returns its id. `rounding` > 0 rounds a convex shape (its surface pushed out by that radius: a rounded box). Raises cdkit.Error for a pose that is not a rigid motion."""
     def remove(self, id: int) -> None: ...
     def set_pose(self, id: int, pose: Pose | None) -> None: ...
     def pose(self, id: int) -> np.ndarray: ...

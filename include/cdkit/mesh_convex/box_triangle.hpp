@@ -13,7 +13,8 @@
 #include <algorithm>
 #include <cmath>
 
-namespace cdkit::detail {
+namespace cdkit {
+namespace detail {
 
 /// Do the box (half extents `h`, centred at the origin of its frame) and the triangle (v0, v1, v2, in the box's
 /// frame) touch or overlap? A gap of at most slack·|axis| on every axis counts as touching.
@@ -43,4 +44,5 @@ template <class S>
     return true;
 }
 
-}  // namespace cdkit::detail
+}  // namespace detail
+}  // namespace cdkit
