@@ -155,6 +155,7 @@ int main(int argc, char** argv) {
                         x.distances);
         }
         std::printf("%s", v.first_wrong.c_str());
+        std::printf("%s", v.first_undecided.c_str());
         std::printf("curved disagreements by certified gap (distance lower end, or depth lower bound) / size:");
         for (std::size_t k = 0; k < v.disagree_by_gap.size(); ++k)
             std::printf(" %s %ld", gap_bin_names[k], v.disagree_by_gap[k]);

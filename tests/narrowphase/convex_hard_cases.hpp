@@ -153,6 +153,8 @@ struct CurvedCounts {
     long iterations = 0;                       ///< the referee's support rounds, summed
     std::string first_wrong;
     int wrong_described = 0;
+    std::string first_undecided;  ///< one line for each of the first undecided cases (pose digits to rebuild it)
+    int undecided_described = 0;
     void add(const CurvedCounts& c) {
         judged += c.judged, separated += c.separated, overlapping += c.overlapping, undecided += c.undecided;
         answers += c.answers, wrong += c.wrong, disagree_band += c.disagree_band;
@@ -167,6 +169,8 @@ struct CurvedCounts {
         widest_interval = std::max(widest_interval, c.widest_interval);
         iterations += c.iterations;
         if (wrong_described < 12) first_wrong += c.first_wrong, wrong_described += c.wrong_described;
+        if (undecided_described < 6)
+            first_undecided += c.first_undecided, undecided_described += c.undecided_described;
     }
 };
 
@@ -488,6 +492,15 @@ void judge_curved(const ExactOracle& oracle, const A& a, const Transform<double>
     e.iterations += x.iterations;
     if (x.verdict == curved::Verdict::undecided) {
         ++e.undecided;
+        if (e.undecided_described < 6) {
+            char line[640];
+            std::snprintf(line, sizeof line,
+                          "  undecided: %s placement, size %.3g, %d rounds; t_a %a %a %a, t_b %a %a %a; ",
+                          placement_names[m], size, x.iterations, pa.t[0], pa.t[1], pa.t[2], pb.t[0], pb.t[1],
+                          pb.t[2]);
+            e.first_undecided += line + describe(a) + " / " + describe(b) + "\n";
+            ++e.undecided_described;
+        }
         return;
     }
     const bool apart = x.verdict == curved::Verdict::separated;

@@ -130,7 +130,7 @@ TEST_CASE("hard convex cases: curved pairs judged by the referee", "[gjk][hard][
                 all.cases, v.judged, v.separated, v.overlapping, v.undecided, v.wrong, v.answers, v.disagree_band,
                 v.disagree_undecided, v.distances, histogram.c_str(), v.worst_distance_error, v.distances_far,
                 far.c_str(), v.worst_distance_error_far);
-    INFO(v.first_wrong);
+    INFO(v.first_wrong << v.first_undecided);
     // The corpus's 14 curved class pairs of 20, every one given to the referee.
     long curved_cases = 0;
     for (std::size_t p = 0; p < per_pair.size(); ++p) curved_cases += per_pair[p].curved.judged > 0 ? per_pair[p].cases : 0;
