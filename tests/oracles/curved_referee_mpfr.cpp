@@ -276,7 +276,7 @@ double round_up(const R& x) {
     return R(d) >= x ? d : std::nextafter(d, std::numeric_limits<double>::infinity());
 }
 
-CurvedAnswer search(const Search& s, V dir) {
+CurvedAnswer search(const Search& s, V dir, bool may_offset = true) {
     constexpr int max_iterations = 200;
     CurvedAnswer out;
     if (dot(dir, dir) == 0) dir = V{{R(1), R(0), R(0)}};
@@ -316,7 +316,25 @@ CurvedAnswer search(const Search& s, V dir) {
     }
     // The origin on or near the simplex: enclose it with more support points, or undecided.
     if (mn.norm2 <= R(1e-20) * s.scale * s.scale) {
-        const R margin = enclose(s, simplex);
+        R margin = enclose(s, simplex);
+        if (!(margin > 0) && may_offset) {
+            // Coincident shapes (D symmetric about the origin: two equal cones' rim-to-rim differences put the
+            // origin on a plane of support points) can leave every tetrahedron flat through the origin. Six points
+            // ±c·e_k off it break the symmetry: all inside D puts their octahedron, and the ball of radius c/√3
+            // about the origin, inside D.
+            const R c = R(1e-30) * s.scale;
+            bool all_inside = true;
+            for (int k = 0; k < 3 && all_inside; ++k)
+                for (int sg : {1, -1}) {
+                    Search shifted = s;
+                    shifted.offset.x[k] += sg * c;
+                    if (search(shifted, dir, false).verdict != Verdict::intersecting) {
+                        all_inside = false;
+                        break;
+                    }
+                }
+            if (all_inside) margin = c / sqrt(R(3)) - s.eps;
+        }
         if (margin > 0) {
             out.verdict = Verdict::intersecting;
             out.depth_lower = std::max(round_down(margin), std::numeric_limits<double>::denorm_min());
