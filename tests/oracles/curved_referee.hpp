@@ -19,7 +19,9 @@
 // The search for the certificates is a minimum-norm-point iteration over support points (Gilbert–Johnson–Keerthi's
 // outer loop), with the minimum-norm point of each simplex found by trying every sub-simplex (no Johnson recursion,
 // no cached determinants): 269-bit arithmetic makes the degeneracies that a double GJK must guard against harmless.
-// It may start from a hint (cdkit's answer's normal: the certificate is checked independently of where the search
+// Where the origin lies on a flat simplex that no further support point lifts (coincident shapes symmetric about
+// it), intersection is certified instead by six points ±c·e_k (c = 1e-30·Σ) each certified inside B − A: their
+// octahedron holds the ball of radius c/√3. It may start from a hint (cdkit's answer's normal: the certificate is checked independently of where the search
 // started).
 //
 // Error bounds: the poses and shape parameters are the given doubles, taken exactly; each support point is computed
