@@ -29,7 +29,15 @@
 // are both polytopes (boxes, triangles, hulls) is judged again exactly: each boolean answer against the exact
 // sign (wrong booleans: a contradiction where the exact gap or L∞ depth exceeds the band; exactly touching pairs
 // are undecided: either answer is right), each separation distance against the exact one (histogram), each
-// EPA bracket against the exact L∞ depth's bounds. Cases with a curved shape are counted as not judged exactly.
+// EPA bracket against the exact L∞ depth's bounds.
+// Curved judge (issue 37): given the curved referee (tests/oracles/curved_referee.hpp: support functions written
+// afresh, in MPFR, sharing no code with cdkit's GJK), every case with a curved shape (sphere, capsule, cylinder,
+// cone, ellipsoid, rounded box; against boxes and hulls too) is judged by its certificates: separated with a
+// certified distance interval, intersecting with a certified depth lower bound, or undecided (counted, never
+// dropped). A boolean answer contradicting a certificate is wrong where the certified distance exceeds the band
+// (or the depth is certified beyond it: six points ±√3·band·size inside B − A); disagreements within the band, or
+// whose depth the referee cannot place against it, are counted apart. Each separation distance is judged against
+// the certified interval (histogram).
 #include <cdkit/narrowphase/closest_features.hpp>
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
 #include <cdkit/narrowphase/convex_shapes.hpp>
@@ -39,6 +47,7 @@
 #include "convex_case_file.hpp"
 #include "convex_reference.hpp"
 #include "near_contact_pose.hpp"
+#include "oracles/curved_referee.hpp"
 #include "oracles/exact_polytope.hpp"
 
 #include <array>
@@ -63,6 +72,9 @@ inline constexpr const char* placement_names[placements] = {"random",  "touching
 /// CGAL: null members leave the exact judge out (the sanitizer build, which has no CGAL TU).
 struct ExactOracle {
     decltype(&exact::exact_polytope_pair) pair = nullptr;
+    /// The curved referee (tests/oracles/curved_referee_mpfr.cpp); null leaves the curved judge out.
+    decltype(&curved::curved_referee) curved = nullptr;
+    decltype(&curved::depth_exceeds) curved_depth = nullptr;
 };
 
 /// Exact boolean band: a boolean answer is wrong when it contradicts the exact answer and the exact gap (distance)
@@ -83,7 +95,7 @@ inline std::size_t error_bin(double e) {
 
 /// What the exact judge counted (cases, answers) over the polytope cases.
 struct ExactCounts {
-    long judged = 0, not_judged = 0;           ///< polytope cases / cases with a curved shape
+    long judged = 0, not_judged = 0;           ///< polytope cases / curved cases left unjudged (no curved referee)
     long separated = 0, overlapping = 0;       ///< exact: apart (distance > 0), overlapping with depth
     long touching = 0;                         ///< exact: touching (undecided: either boolean is right)
     long in_band = 0;                          ///< exact gap or L∞ depth in (0, band_rel·size]
@@ -98,6 +110,9 @@ struct ExactCounts {
     std::array<long, 6> distance_error_far{};  ///< |d − exact| / exact there, by error_bin_names
     double worst_distance_error_far = 0;
     long epa_checked = 0, epa_contradicted = 0;  ///< EPA brackets against δ ∈ [depth_inf/√3, depth_inf]
+    /// The curved referee checked against the exact answer on these polytope cases (its boxes and hulls, the
+    /// triangles as hulls): cases, undecided, contradicted (a certificate the exact answer refutes).
+    long referee_checked = 0, referee_undecided = 0, referee_contradicted = 0;
     std::string first_wrong;
     int wrong_described = 0;
     void add(const ExactCounts& c) {
@@ -112,7 +127,50 @@ struct ExactCounts {
         for (std::size_t k = 0; k < distance_error_far.size(); ++k) distance_error_far[k] += c.distance_error_far[k];
         worst_distance_error_far = std::max(worst_distance_error_far, c.worst_distance_error_far);
         epa_checked += c.epa_checked, epa_contradicted += c.epa_contradicted;
+        referee_checked += c.referee_checked, referee_undecided += c.referee_undecided;
+        referee_contradicted += c.referee_contradicted;
         if (wrong_described < 12) first_wrong += c.first_wrong, wrong_described += c.wrong_described;
+    }
+};
+
+/// What the curved judge counted over the cases with a curved shape.
+struct CurvedCounts {
+    long judged = 0;                           ///< cases with a curved shape given to the referee
+    long separated = 0, overlapping = 0;       ///< certified apart / certified intersecting
+    long undecided = 0;                        ///< no certificate (touching within its error bounds, or search failed)
+    long answers = 0;                          ///< boolean answers judged (of decided cases)
+    long wrong = 0;                            ///< answers contradicting a certificate beyond the band (failures)
+    long disagree_band = 0;                    ///< contradicting answers where the certified gap or depth is in the band
+    long disagree_undecided = 0;               ///< contradicting an overlap whose depth the referee cannot place
+    std::array<long, 5> disagree_by_gap{};     ///< every disagreement, by gap_bin_names (certified distance / depth bound)
+    long distances = 0;                        ///< separation distances judged (certified apart, answer not intersecting)
+    std::array<long, 6> distance_error{};      ///< off the certified interval / max(lower, 1e-9·size), by error_bin_names
+    double worst_distance_error = 0;
+    long distances_far = 0;                    ///< of them, certified distance > 1e-6·size
+    std::array<long, 6> distance_error_far{};  ///< off the interval / lower there
+    double worst_distance_error_far = 0;
+    double widest_interval = 0;                ///< the widest certified interval, (upper − lower) / max(lower, 1e-9·size)
+    long iterations = 0;                       ///< the referee's support rounds, summed
+    std::string first_wrong;
+    int wrong_described = 0;
+    std::string first_undecided;  ///< one line for each of the first undecided cases (pose digits to rebuild it)
+    int undecided_described = 0;
+    void add(const CurvedCounts& c) {
+        judged += c.judged, separated += c.separated, overlapping += c.overlapping, undecided += c.undecided;
+        answers += c.answers, wrong += c.wrong, disagree_band += c.disagree_band;
+        disagree_undecided += c.disagree_undecided;
+        for (std::size_t k = 0; k < disagree_by_gap.size(); ++k) disagree_by_gap[k] += c.disagree_by_gap[k];
+        distances += c.distances;
+        for (std::size_t k = 0; k < distance_error.size(); ++k) distance_error[k] += c.distance_error[k];
+        worst_distance_error = std::max(worst_distance_error, c.worst_distance_error);
+        distances_far += c.distances_far;
+        for (std::size_t k = 0; k < distance_error_far.size(); ++k) distance_error_far[k] += c.distance_error_far[k];
+        worst_distance_error_far = std::max(worst_distance_error_far, c.worst_distance_error_far);
+        widest_interval = std::max(widest_interval, c.widest_interval);
+        iterations += c.iterations;
+        if (wrong_described < 12) first_wrong += c.first_wrong, wrong_described += c.wrong_described;
+        if (undecided_described < 6)
+            first_undecided += c.first_undecided, undecided_described += c.undecided_described;
     }
 };
 
@@ -137,6 +195,7 @@ struct Counts {
     std::string first_outliers;  ///< one line for each of the first distances off the certified interval
     int outliers_described = 0;
     ExactCounts exact;  ///< the exact judge's counts (all zero without an oracle)
+    CurvedCounts curved;  ///< the curved judge's counts (all zero without the curved referee)
     [[nodiscard]] long failures() const {
         long wrong_epa = 0;
         for (long n : epa_wrong_status) wrong_epa += n;
@@ -161,6 +220,7 @@ struct Counts {
         if (outliers_described < 12)
             first_outliers += c.first_outliers, outliers_described += c.outliers_described;
         exact.add(c.exact);
+        curved.add(c.curved);
     }
 };
 
@@ -311,7 +371,33 @@ void judge_exactly(const ExactOracle& oracle, const A& a, const Transform<double
                    const Transform<double>& pb, double size, Placement m, const std::vector<Answer>& answers,
                    const PenetrationResult<double>* epa, ExactCounts& e) {
     ++e.judged;
-    const auto x = oracle.pair(vertex_list(a), pa, vertex_list(b), pb, true);
+    const std::vector<Vec3<double>> va = vertex_list(a), vb = vertex_list(b);
+    const auto x = oracle.pair(va, pa, vb, pb, true);
+    if (oracle.curved != nullptr) {
+        // The curved referee on the same pair (its hull support function), against the exact answer: a separation
+        // certificate must hold the exact distance (rounded within ~2ε) and the pair must be apart; an overlap
+        // certificate needs an exact intersection, its depth bound at most the exact L∞ depth (δ ≤ depth_inf).
+        const curved::ShapeSpec sa{curved::ShapeKind::hull, 0, 0, 0, 0, &va}, sb{curved::ShapeKind::hull, 0, 0, 0, 0, &vb};
+        const curved::CurvedAnswer r = oracle.curved(sa, pa, sb, pb, pb.t - pa.t);
+        ++e.referee_checked;
+        bool refuted = false;
+        if (r.verdict == curved::Verdict::undecided) ++e.referee_undecided;
+        else if (r.verdict == curved::Verdict::separated)
+            refuted = x.intersect || r.lower > x.distance * (1 + 1e-15) || r.upper < x.distance * (1 - 1e-15);
+        else
+            refuted = !x.intersect || (x.depth_known && r.depth_lower > x.depth_inf * (1 + 1e-15));
+        e.referee_contradicted += refuted;
+        if (refuted && e.wrong_described < 12) {
+            char line[320];
+            std::snprintf(line, sizeof line,
+                          "  referee refuted: %s placement, size %.3g: verdict %d [%.17g, %.17g] depth >= %.17g; exact "
+                          "intersect %d distance %.17g depth_inf %.17g; ",
+                          placement_names[m], size, int(r.verdict), r.lower, r.upper, r.depth_lower, int(x.intersect),
+                          x.distance, x.depth_inf);
+            e.first_wrong += line + describe(a) + " / " + describe(b) + "\n";
+            ++e.wrong_described;
+        }
+    }
     // side: +1 apart, −1 overlapping with depth, 0 touching; gap: the exact distance or L∞ depth.
     const int side = !x.intersect ? 1 : x.touching ? 0 : -1;
     const double gap = side > 0 ? x.distance : side < 0 ? x.depth_inf : 0.0;
@@ -362,6 +448,114 @@ void judge_exactly(const ExactOracle& oracle, const A& a, const Transform<double
                           "  exact: EPA bracket [%.17g, %.17g] (status %s), %s placement, size %.3g: exact L-inf depth "
                           "%.17g; ",
                           epa->depth_lower, epa->depth, to_string(epa->status), placement_names[m], size, x.depth_inf);
+            e.first_wrong += line + describe(a) + " / " + describe(b) + "\n";
+            ++e.wrong_described;
+        }
+    }
+}
+
+/// The curved referee's description of a shape (its parameters as the shape holds them; hulls by their vertices,
+/// which outlive the call).
+inline curved::ShapeSpec spec_of(const Box<double>& s) {
+    return {curved::ShapeKind::box, s.half[0], s.half[1], s.half[2], 0, nullptr};
+}
+inline curved::ShapeSpec spec_of(const Sphere<double>& s) { return {curved::ShapeKind::sphere, s.radius, 0, 0, 0, nullptr}; }
+inline curved::ShapeSpec spec_of(const Capsule<double>& s) {
+    return {curved::ShapeKind::capsule, s.radius, s.half_length, 0, 0, nullptr};
+}
+inline curved::ShapeSpec spec_of(const Cylinder<double>& s) {
+    return {curved::ShapeKind::cylinder, s.radius, s.half_height, 0, 0, nullptr};
+}
+inline curved::ShapeSpec spec_of(const Cone<double>& s) {
+    return {curved::ShapeKind::cone, s.radius, s.half_height, 0, 0, nullptr};
+}
+inline curved::ShapeSpec spec_of(const Ellipsoid<double>& s) {
+    return {curved::ShapeKind::ellipsoid, s.radii[0], s.radii[1], s.radii[2], 0, nullptr};
+}
+inline curved::ShapeSpec spec_of(const Inflated<Box<double>>& s) {
+    return {curved::ShapeKind::rounded_box, s.shape.half[0], s.shape.half[1], s.shape.half[2], s.radius, nullptr};
+}
+inline curved::ShapeSpec spec_of(const ConvexPolyhedron<double>& s) {
+    return {curved::ShapeKind::hull, 0, 0, 0, 0, &s.vertices()};
+}
+
+/// The curved judge of one case (see the header comment): `answers` are the case's boolean answers, `hint` a
+/// direction from A towards B to start the referee's search from (long-double GJK's normal: the certificates do
+/// not depend on it).
+template <class A, class B>
+void judge_curved(const ExactOracle& oracle, const A& a, const Transform<double>& pa, const B& b,
+                  const Transform<double>& pb, double size, Placement m, const std::vector<Answer>& answers,
+                  const Vec3<double>& hint, CurvedCounts& e) {
+    ++e.judged;
+    const curved::ShapeSpec sa = spec_of(a), sb = spec_of(b);
+    const curved::CurvedAnswer x = oracle.curved(sa, pa, sb, pb, hint);
+    e.iterations += x.iterations;
+    if (x.verdict == curved::Verdict::undecided) {
+        ++e.undecided;
+        if (e.undecided_described < 6) {
+            char line[640];
+            std::snprintf(line, sizeof line,
+                          "  undecided: %s placement, size %.3g, %d rounds; t_a %a %a %a, t_b %a %a %a; ",
+                          placement_names[m], size, x.iterations, pa.t[0], pa.t[1], pa.t[2], pb.t[0], pb.t[1],
+                          pb.t[2]);
+            e.first_undecided += line + describe(a) + " / " + describe(b) + "\n";
+            ++e.undecided_described;
+        }
+        return;
+    }
+    const bool apart = x.verdict == curved::Verdict::separated;
+    e.separated += apart, e.overlapping += !apart;
+    const double band = band_rel * size;
+    if (apart)
+        e.widest_interval = std::max(e.widest_interval, (x.upper - x.lower) / std::max(x.lower, 1e-9 * size));
+    int depth_class = 2;  // for overlaps: +1 deeper than the band, −1 within √3·band, 0 undecided; 2 not asked yet
+    for (const Answer& ans : answers) {
+        ++e.answers;
+        if (apart && ans.distance_query && ans.status != GjkStatus::intersecting) {
+            const double off = std::max({0.0, x.lower - ans.distance, ans.distance - x.upper});
+            const double err = off / std::max(x.lower, 1e-9 * size);
+            ++e.distances;
+            ++e.distance_error[error_bin(err)];
+            e.worst_distance_error = std::max(e.worst_distance_error, err);
+            if (x.lower > 1e-6 * size) {
+                const double rel = off / x.lower;
+                ++e.distances_far;
+                ++e.distance_error_far[error_bin(rel)];
+                e.worst_distance_error_far = std::max(e.worst_distance_error_far, rel);
+            }
+        }
+        if (ans.colliding != apart) continue;  // agrees with the certificate
+        // The certified gap: the distance's lower end, or the depth's lower bound.
+        const double gap = apart ? x.lower : x.depth_lower;
+        const double rel = gap / size;
+        ++e.disagree_by_gap[rel <= 1e-15 ? 0 : rel <= 1e-12 ? 1 : rel <= 1e-10 ? 2 : rel <= 1e-9 ? 3 : 4];
+        // Beyond the band (wrong), within it, or undecided against it: apart, the interval against the band;
+        // overlapping, the depth bound, else the six points ±√3·band·size tested in B − A (once per case).
+        int beyond;  // +1 beyond the band, −1 within, 0 undecided
+        if (apart) {
+            beyond = x.lower > band ? 1 : x.upper <= band ? -1 : 0;
+        } else if (x.depth_lower > band) {
+            beyond = 1;
+        } else {
+            if (depth_class == 2) depth_class = oracle.curved_depth(sa, pa, sb, pb, band);
+            beyond = depth_class;
+        }
+        if (beyond < 0) {
+            ++e.disagree_band;
+            continue;
+        }
+        if (beyond == 0) {
+            ++e.disagree_undecided;
+            continue;
+        }
+        ++e.wrong;
+        if (e.wrong_described < 12) {
+            char line[360];
+            std::snprintf(line, sizeof line,
+                          "  curved: %s wrong, %s placement, size %.3g, |t_a| %.3g: answered %s; certified %s, %s "
+                          "%.17g; ",
+                          ans.name, placement_names[m], size, pa.t.norm(), ans.colliding ? "colliding" : "apart",
+                          apart ? "apart" : "overlapping", apart ? "distance >=" : "depth >", gap);
             e.first_wrong += line + describe(a) + " / " + describe(b) + "\n";
             ++e.wrong_described;
         }
@@ -540,6 +734,9 @@ void run_case(const A& a, const AL& al, const B& b, const BL& bl, Placement m, s
     if constexpr (is_polytope_v<A> && is_polytope_v<B>) {
         if (oracle.pair != nullptr)
             judge_exactly(oracle, a, pa, b, pb, size, m, answers, epa_ran ? &epa_result : nullptr, c.exact);
+    } else if (oracle.curved != nullptr) {
+        judge_curved(oracle, a, pa, b, pb, size, m, answers, Vec3<double>(ref.normal.template cast<double>()),
+                     c.curved);
     } else {
         c.exact.not_judged += oracle.pair != nullptr;
     }

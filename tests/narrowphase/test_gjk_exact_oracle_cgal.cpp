@@ -3,7 +3,9 @@
 // for the distance and exact LPs for the depth, on exactly posed vertices). First the referee itself on answers
 // known in closed form; then the hard-case corpus (convex_hard_cases.hpp, the same generator as
 // test_gjk_hard_cases.cpp and cdkit_bench_convex_hard) with every polytope case judged exactly — one wrong boolean
-// fails; then test_gjk.cpp's random polytope pairs and the hull's strict containment test, judged exactly.
+// fails; then test_gjk.cpp's random polytope pairs and the hull's strict containment test, judged exactly. The
+// corpus's curved cases go to the curved referee (tests/oracles/curved_referee.hpp, MPFR), which is itself checked
+// here against the exact answer on every polytope case (it judges hulls by their support function too).
 #include <catch2/catch.hpp>
 
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
@@ -12,6 +14,7 @@
 
 #include "convex_hard_cases.hpp"
 #include "mesh_factory.hpp"
+#include "oracles/curved_referee.hpp"
 #include "oracles/exact_polytope.hpp"
 #include "test_common.hpp"
 
@@ -108,19 +111,32 @@ TEST_CASE("hard convex cases: every polytope case judged by the exact oracle", "
     const long cases = cdkit::test::scaled(hard_exact_cases, 2000);
     ExactOracle oracle;
     oracle.pair = &exact_polytope_pair;
+    oracle.curved = &cdkit::test::curved::curved_referee;
+    oracle.curved_depth = &cdkit::test::curved::depth_exceeds;
     const auto per_pair = run_hard_cases(cases, 1, oracle);
     Counts all;
     for (const Counts& c : per_pair) all.add(c);
     const ExactCounts& e = all.exact;
-    INFO(e.judged << " judged exactly, " << e.not_judged << " curved, " << e.touching << " touching, " << e.in_band
-                  << " in band, " << e.wrong << " wrong of " << e.answers << " answers; worst distance error "
-                  << e.worst_distance_error << "\n" << e.first_wrong);
-    // 6 of the 20 class pairs are polytope pairs (box-box, hull-hull, hull-box, tri-tri, tri-box, hull-tri); the
-    // others are not judged exactly and say so.
-    CHECK(e.judged + e.not_judged == cases);
+    const CurvedCounts& v = all.curved;
+    INFO(e.judged << " judged exactly, " << v.judged << " curved (" << v.undecided << " undecided, " << v.wrong
+                  << " wrong), " << e.touching << " touching, " << e.in_band << " in band, " << e.wrong
+                  << " wrong of " << e.answers << " answers; worst distance error " << e.worst_distance_error
+                  << "; the curved referee against the exact answer: " << e.referee_checked << " checked, "
+                  << e.referee_undecided << " undecided, " << e.referee_contradicted << " refuted\n"
+                  << e.first_wrong << v.first_wrong);
+    // 6 of the 20 class pairs are polytope pairs (box-box, hull-hull, hull-box, tri-tri, tri-box, hull-tri), judged
+    // exactly; the other 14 go to the curved referee (test_gjk_curved_referee.cpp asserts its own counts).
+    CHECK(e.judged + v.judged == cases);
+    CHECK(e.not_judged == 0);
     CHECK(e.judged == 6 * (cases / 20) + std::min<long>(cases % 20, 1));
     CHECK(e.wrong == 0);
+    CHECK(v.wrong == 0);
     CHECK(all.failures() == 0);
+    // The curved referee, judged in turn on the polytope cases: no certificate the exact answer refutes, and it
+    // decides the cases that are not exactly touching (those, and flat pairs with no interior, stay undecided).
+    CHECK(e.referee_checked == e.judged);
+    CHECK(e.referee_contradicted == 0);
+    CHECK(e.referee_undecided <= e.touching + e.judged / 20);
     // The corpus is hard for the judge too: apart, overlapping and exactly touching cases all occur, and answers
     // near contact (in the band) occur.
     CHECK(e.separated > e.judged / 5);
@@ -144,7 +160,14 @@ TEST_CASE("hard convex cases: every polytope case judged by the exact oracle", "
     // rerun `cdkit_bench_convex_hard 20000 1` and update the file and these numbers together.
     if (cases == hard_exact_cases) {
         CHECK(e.judged == 6000);
-        CHECK(e.not_judged == 14000);
+        CHECK(e.not_judged == 0);  // was 14000 before the curved referee
+        CHECK(v.judged == 14000);
+        CHECK(v.undecided == 0);
+        CHECK(v.disagree_band <= 7292);
+        CHECK(v.disagree_undecided == 0);
+        CHECK(v.distances_far >= 6870);
+        CHECK(v.worst_distance_error_far < 1e-10);  // 9.9e-11
+        CHECK(e.referee_undecided <= 563);
         CHECK(e.touching == 467);
         CHECK(e.in_band == 1474);
         CHECK(e.disagree_band <= 4535);
