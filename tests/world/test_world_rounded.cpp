@@ -153,6 +153,43 @@ TEST_CASE("a rounded box over a mesh floor; speculative within the margin", "[wo
     CHECK(r.contacts[0].distance == Approx(0.03).margin(1e-9));
 }
 
+TEST_CASE("rounded curved cores tangent to a mesh floor give a contact of depth r", "[world][rounded]") {
+    // The core's lowest point lies on the floor up to rounding: the core's mesh–convex boolean and its distance may
+    // disagree here (two GJK tolerances), and either way the rounded shape overlaps the floor by r.
+    const Shape<double> floor = Shape<double>::mesh(floor_mesh());
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> g;
+    std::vector<V> cloud;
+    for (int i = 0; i < 30; ++i) cloud.push_back(V(g(rng), g(rng), g(rng)) * 0.3);
+    const Shape<double> cores[] = {Shape<double>::cylinder(0.3, 0.2), Shape<double>::cone(0.3, 0.3),
+                                   Shape<double>::ellipsoid(V(0.4, 0.2, 0.3)), Shape<double>::convex_hull(cloud)};
+    const double r = 0.05;
+    int checked = 0;
+    for (int i = 0; i < test::scaled(200, 50); ++i)
+        for (const auto& core : cores) {
+            const Mat3<double> R = test::random_rotation(rng);
+            const double lowest = core.visit_convex([&](const auto& c) {
+                return (R * c.support(R.transpose() * V(0, 0, -1))).z();
+            });
+            const T pose(R, V(0.3 * g(rng), 0.3 * g(rng), -lowest));
+            const auto c = contact(floor, T(), core.rounded(r), pose);
+            INFO(to_string(core.kind()) << " pose " << i);
+            REQUIRE(c);
+            CHECK(c->colliding);
+            CHECK(c->depth == Approx(r).margin(1e-6));
+            CHECK(c->normal.isApprox(V(0, 0, 1), 1e-4));  // from the floor (a) to the shape (b)
+            // The direction the distance-0 branch takes (boolean apart, distance 0: not met on these poses).
+            core.visit_convex([&](const auto& cc) {
+                const Index t = distance(floor.mesh_model(), T(), cc, pose).triangle;
+                const V u = detail::core_to_triangle_direction(cc, pose, floor.mesh_model(), T(), t);
+                INFO("direction " << u.transpose());
+                CHECK(u.isApprox(V(0, 0, -1), 1e-4));
+            });
+            ++checked;
+        }
+    CHECK(checked == 4 * test::scaled(200, 50));
+}
+
 TEST_CASE("World CCD: a rounded bullet hits where the round one does", "[world][rounded][ccd]") {
     for (const bool mesh_wall : {false, true}) {
         double toi[2] = {0, 0};

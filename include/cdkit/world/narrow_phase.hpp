@@ -217,6 +217,21 @@ template <class S> std::optional<WorldContact<S>> rounded_contact(WorldContact<S
     return w;
 }
 
+/// Unit direction from a convex core to a mesh triangle it touches (distance 0): EPA's separating direction
+/// between the two, or the triangle's normal turned away from the core's centre where EPA gives none.
+template <class S, class Convex>
+Vec3<S> core_to_triangle_direction(const Convex& c, const Transform<S>& pose_c, const WorldMeshModel<S>& m,
+                                   const Transform<S>& pose_m, Index t) {
+    const auto& tri = m.mesh().triangles[t];
+    const Vec3<S>&v0 = m.mesh().vertices[tri[0]], &v1 = m.mesh().vertices[tri[1]], &v2 = m.mesh().vertices[tri[2]];
+    const PenetrationResult<S> p = cdkit::penetration(ConvexTriangle<S>(v0, v1, v2), pose_m, c, pose_c);
+    // penetration()'s normal runs from the triangle (a) towards the core (b).
+    if (p.normal.allFinite() && p.normal.norm() > S(0.5)) return -p.normal;
+    Vec3<S> n = pose_m.R * (v1 - v0).cross(v2 - v0);
+    if (n.dot(pose_c.t - pose_m * v0) > S(0)) n = -n;
+    return safe_normalized(n);
+}
+
 /// A rounded convex shape (core `c`, radius `r` > 0) against a mesh: the core's mesh–convex contact (its depth and
 /// point grown by r) where the core touches the mesh, else the core's distance to the mesh against r (a contact of
 /// depth r − d, or a speculative one within the margin), along the closest points' direction.
@@ -233,8 +248,11 @@ std::optional<WorldContact<S>> rounded_convex_vs_mesh(const Convex& c, S r, cons
         return w;
     }
     const MeshConvexDistanceResult<S> d = distance(m, pose_m, c, pose_c);
-    if (!(d.distance <= r + margin) || !(d.distance > S(0))) return std::nullopt;
-    const Vec3<S> u = (d.point_mesh - d.point_shape) / d.distance;  // from the core towards the mesh
+    if (!(d.distance <= r + margin)) return std::nullopt;
+    // The core touches the mesh by the distance query although the boolean said apart (their tolerances differ
+    // within ~1e-9 of touching): the rounded shape overlaps by r, along the closest triangle's separating direction.
+    const Vec3<S> u = d.distance > S(0) ? Vec3<S>((d.point_mesh - d.point_shape) / d.distance)
+                                        : core_to_triangle_direction(c, pose_c, m, pose_m, d.triangle);
     const Vec3<S> on_shape = d.point_shape + r * u;
     WorldContact<S> w;
     w.method = PairMethod::convex_mesh;
