@@ -55,27 +55,17 @@ namespace detail {
 /// Radius of a shape about its own origin: the corner of its local bounding box farthest from the origin (six
 /// support calls; the shape lies in that box, so the radius is an upper bound).
 template <SupportMapped A> [[nodiscard]] double radius_about_origin(const A& shape) noexcept {
-    Vec3<double> far = Vec3<double>::Zero();
-    for (int k = 0; k < 3; ++k) {
-        Vec3<double> d = Vec3<double>::Zero();
-        d[k] = 1;
-        far[k] = std::max(std::abs(double(shape.support(d.cast<typename A::Scalar>())[k])),
-                          std::abs(double(shape.support((-d).cast<typename A::Scalar>())[k])));
-    }
-    return far.norm() * (1 + 1e-12);
+    const auto box = support_box(shape);
+    return box.lo.template cast<double>().cwiseAbs().cwiseMax(box.hi.template cast<double>().cwiseAbs()).norm() *
+           (1 + 1e-12);
 }
 
 /// Radius of a shape about a line through its origin along the unit `axis` (its own frame): the farthest corner of
 /// its local bounding box from that line. A shape turning about that axis moves its points at |ω| times their
 /// distance from the line, so this bounds their speed more tightly than the radius about the origin.
 template <SupportMapped A> [[nodiscard]] double radius_about_axis(const A& shape, const Vec3<double>& axis) noexcept {
-    Vec3<double> lo, hi;
-    for (int k = 0; k < 3; ++k) {
-        Vec3<double> d = Vec3<double>::Zero();
-        d[k] = 1;
-        hi[k] = double(shape.support(d.cast<typename A::Scalar>())[k]);
-        lo[k] = double(shape.support((-d).cast<typename A::Scalar>())[k]);
-    }
+    const auto box = support_box(shape);
+    const Vec3<double> lo = box.lo.template cast<double>(), hi = box.hi.template cast<double>();
     double r2 = 0;
     for (int c = 0; c < 8; ++c) {
         const Vec3<double> p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());

@@ -78,11 +78,7 @@ template <SupportMapped C, class S>
 [[nodiscard]] ShapeBound<S> make_shape_bound(const C& shape, const Transform<S>& pose) noexcept {
     ShapeBound<S> b;
     b.pose = pose;
-    Vec3<S> lo, hi;
-    for (int i = 0; i < 3; ++i) {
-        hi[i] = Vec3<S>(shape.support(Vec3<S>::Unit(i)))[i];
-        lo[i] = Vec3<S>(shape.support(Vec3<S>(-Vec3<S>::Unit(i))))[i];
-    }
+    const auto [lo, hi] = support_box(shape);
     b.finite = lo.allFinite() && hi.allFinite() && (hi.array() >= lo.array()).all();
     if (!b.finite) return b;
     const Vec3<S> c = (lo + hi) * S(0.5);

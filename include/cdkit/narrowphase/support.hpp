@@ -282,6 +282,20 @@ template <SupportMapped T> [[nodiscard]] CDKIT_ALWAYS_INLINE Vec3<typename T::Sc
     if constexpr (HasMargin<T>) return Vec3<typename T::Scalar>(p + s.margin() * n);
     else { (void)s; (void)n; return p; }
 }
+/// The shape's bounding box in its own frame from six support calls (exact for a support-mapped shape: each side
+/// touches the shape). `lo` ≤ `hi` unless a size is NaN or infinite; callers that take input check finiteness.
+template <class S> struct SupportBox {
+    Vec3<S> lo, hi;
+};
+template <SupportMapped T> [[nodiscard]] SupportBox<typename T::Scalar> support_box(const T& s) noexcept {
+    using S = typename T::Scalar;
+    SupportBox<S> b;
+    for (int i = 0; i < 3; ++i) {
+        b.hi[i] = Vec3<S>(s.support(Vec3<S>::Unit(i)))[i];
+        b.lo[i] = Vec3<S>(s.support(Vec3<S>(-Vec3<S>::Unit(i))))[i];
+    }
+    return b;
+}
 }  // namespace detail
 
 /// A shape placed by a rigid pose: support in the outer frame is pose·s(Rᵀd). Non-owning view: the
