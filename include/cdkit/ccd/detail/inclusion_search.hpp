@@ -10,6 +10,13 @@
 /// axis-aligned hull of the corners, we also try the face (edge-pair) normal and the direction of the corners'
 /// centroid: a vertex sliding over a face, or an edge over a parallel edge, at a small gap is excluded at once
 /// instead of by splitting down to the gap in every dimension, which is what makes the paper's tail long.
+/// Before those, a box's time interval alone is tested (for contact at distance 0): F = 0 needs B, E1, E2
+/// coplanar, so the cubic c(t) = det(B(t), E1(t), E2(t)) (Provot 1997) must vanish; its Bernstein coefficients on
+/// [t_lo, t_hi] all of one sign beyond their error bound exclude every (u, v) at once — the sign test of Tang,
+/// Tong, Wang, Manocha, "Fast and Exact Continuous Collision Detection with Bernstein Sign Classification", ACM
+/// TOG 33(6), 2014. The control polygon approaches c quadratically in the width, so boxes before the first
+/// contact go at far coarser t than the fixed-normal test allows (which splits them down to the distance from
+/// that contact), which made the slow tail of the handcrafted edge–edge set (docs/ccd.md).
 /// Boxes are searched earliest-t first (a heap on t), so the first box accepted bounds the first contact from
 /// below; a work cap bounds the worst case and then answers conservatively (contact).
 
@@ -31,6 +38,7 @@ namespace cdkit::detail {
 struct BoxCorners {
     double f[3][8];
     double normal[3];
+    double B[2][3], E1[2][3], E2[2][3];  ///< F's terms at the box's lower [0] and upper [1] t
 };
 
 inline void evaluate_corners(const GapFunction& g, const InclusionBox& box, BoxCorners& out) noexcept {
@@ -44,6 +52,7 @@ inline void evaluate_corners(const GapFunction& g, const InclusionBox& box, BoxC
             const double E1 = g.e10[k] + t[ti] * (g.e11[k] - g.e10[k]);
             const double E2 = g.e20[k] + t[ti] * (g.e21[k] - g.e20[k]);
             if (ti == 0) e1_lo[k] = E1, e2_lo[k] = E2;
+            out.B[ti][k] = B, out.E1[ti][k] = E1, out.E2[ti][k] = E2;
             for (int j = 0; j < 4; ++j) out.f[k][4 * ti + j] = B + u[j] * E1 + v[j] * E2;
         }
     }
@@ -78,6 +87,24 @@ inline void evaluate_corners(const GapFunction& g, const InclusionBox& box, BoxC
     return false;
 }
 
+/// True when c(t) = det(B(t), E1(t), E2(t)) has no zero on the box's time interval [a, b], so F has none either
+/// (F = 0 makes B, E1, E2 linearly dependent). c is cubic; its Bernstein coefficients on [a, b] are the values of
+/// its blossom with k arguments at b (k = 0…3): det(B(r), E1(s), E2(t)) averaged over the ways to put k of
+/// r, s, t at b. All beyond coplanarity_error and of one sign, c keeps that sign on [a, b] (convex hull property).
+[[nodiscard]] inline bool coplanarity_excludes(const BoxCorners& c, const GapFunction& g) noexcept {
+    auto det = [&](int r, int s, int t) {
+        const double *x = c.B[r], *y = c.E1[s], *z = c.E2[t];
+        return x[0] * (y[1] * z[2] - y[2] * z[1]) + x[1] * (y[2] * z[0] - y[0] * z[2]) +
+               x[2] * (y[0] * z[1] - y[1] * z[0]);
+    };
+    const double e = g.coplanarity_error;
+    const double c0 = det(0, 0, 0), c3 = det(1, 1, 1);
+    if (!(std::abs(c0) > e) || !(std::abs(c3) > e) || !(c0 * c3 > 0)) return false;
+    const double c1 = (det(1, 0, 0) + det(0, 1, 0) + det(0, 0, 1)) / 3;
+    const double c2 = (det(0, 1, 1) + det(1, 0, 1) + det(1, 1, 0)) / 3;
+    return c0 > 0 ? c1 > e && c2 > e : c1 < -e && c2 < -e;
+}
+
 /// Boxes this many splits deep get a Newton (Krawczyk) step before they are split again: larger ones rarely
 /// pass it, and the step costs about as much as a box.
 inline constexpr int kNewtonDepth = 6;
@@ -107,6 +134,9 @@ enum class BoxVerdict { excluded, accepted, split_t, split_u, split_v };
         magnitude[k] = std::max(hi, -lo);
     }
     if (direction_excludes(c, c.normal, magnitude, g, req.min_separation)) return BoxVerdict::excluded;
+    // The time-only test, for touching contact, after the cheaper fixed-normal test, and only on a time interval
+    // its parent did not already fail on.
+    if (req.min_separation == 0 && box.new_time && coplanarity_excludes(c, g)) return BoxVerdict::excluded;
     if (direction_excludes(c, centre, magnitude, g, req.min_separation)) return BoxVerdict::excluded;
     {
         // The centroid's direction without its component along E1: for (nearly) parallel edges, where E1 × E2
@@ -239,6 +269,7 @@ inline void inclusion_search(const GapFunction& g, const CcdRequest& req, CcdRes
                     first.box.hi[d] = mid;
                     second.box.lo[d] = mid;
                     first.box.depth = second.box.depth = current.box.depth + 1;
+                    first.box.new_time = second.box.new_time = d == 0;
                     ++out.stats.subdivisions;
                     push(first);
                     push(second);

@@ -78,6 +78,7 @@ namespace cdkit::detail {
         out.hi[i] = hi;
     }
     out.depth = x.depth + 1;
+    out.new_time = true;
     return true;
 }
 

@@ -34,6 +34,7 @@ using CcdPoints = std::array<const Vec3<double>*, 8>;  ///< four points at t = 0
         g.e20[k] = diff(e2, 0);
         g.e21[k] = diff(e2, 1);
     }
+    g.coplanarity_error = coplanarity_error_bound(g);
     return g;
 }
 
