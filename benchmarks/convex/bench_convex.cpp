@@ -24,8 +24,9 @@
 // The table: cdkit_bench_convex 60 0 - real results/p3_real_hulls.csv
 // Prints per (shape family, distance class): median / p99 thread-CPU time per call (batch_timer.hpp), mean
 // iterations, the error against a long-double reference (cdkit's own GJK/EPA instantiated in long double with
-// tight tolerances) and the share of booleans decided by the bounding-ball pre-test, then a checked counter:
-// seeded cases whose double answer disagrees with the long-double reference.
+// tight tolerances) and the share of booleans decided by the bounding-ball pre-test, then the checked counter
+// (checked_counter.hpp; check_cases of them, 0 skips it): seeded hull and curved pairs whose answers are judged by
+// CGAL's exact polytope distance and the MPFR curved referee, non-zero exit on a wrong answer.
 #include "../bench_util.hpp"
 #include "../provenance.hpp"
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
@@ -35,6 +36,7 @@
 
 #include "../../tests/narrowphase/convex_reference.hpp"  // certified distance bounds, shared with the tests
 #include "batch_timer.hpp"
+#include "checked_counter.hpp"
 #include "ccd_adapter.hpp"
 #include "peer_fcl.hpp"
 
@@ -833,76 +835,7 @@ int main(int argc_all, char** argv_all) {
         }
     }
 
-    // Checked counter: seeded random hull/ellipsoid/cylinder/cone pairs at random poses; the double boolean
-    // and distance against cdkit's long-double run (distance relative error ≤ 1e-9 where the distance is
-    // ≥ 1e-6 of the scale; booleans compared where |distance| > 1e-9·scale).
-    {
-        std::mt19937_64 r2(7);
-        auto hulls1 = hull(200)(r2);
-        auto hulls2 = hull(50)(r2);
-        auto& h1 = hulls1.first;
-        auto& h1l = hulls1.second;
-        auto& h2 = hulls2.first;
-        auto& h2l = hulls2.second;
-        Ellipsoid<double> e(Vec3<double>(0.1, 0.05, 0.08));
-        Ellipsoid<LD> el(Vec3<LD>(0.1L, 0.05L, 0.08L));
-        Cylinder<double> cy(0.05, 0.1);
-        Cylinder<LD> cyl_l(0.05L, 0.1L);
-        Cone<double> co(0.06, 0.09);  // cone–cylinder: the cold boolean's containment test in every round
-        Cone<LD> co_l(0.06L, 0.09L);
-        Cone<double> co2(0.08, 0.05);  // cone–cone: the cones' candidate axes (base, side at an azimuth)
-        Cone<LD> co2_l(0.08L, 0.05L);
-        long fail_bool = 0, fail_dist = 0, fail_dist_plain = 0, hits = 0, dist_checked = 0, by_balls = 0;
-        long by_containment = 0;
-        GjkSettings<LD> tight;
-        tight.rel_tolerance = 1e-16L;
-        std::uniform_real_distribution<double> t(-0.3, 0.3);
-        auto t0 = Clock::now();
-        for (long i = 0; i < checks; ++i) {
-            Transform<double> pa(random_rotation(r2), Vec3<double>::Zero());
-            Transform<double> pb(random_rotation(r2), Vec3<double>(t(r2), t(r2), t(r2)));
-            auto check = [&](const auto& a, const auto& al, const auto& b, const auto& bl) {
-                auto ref = gjk_distance(al, pa.cast<LD>(), bl, pb.cast<LD>(), nullptr, tight);
-                auto d = gjk_distance(a, pa, b, pb);
-                auto bo = gjk_intersect(a, pa, b, pb);
-                by_balls += bo.iterations == 0;  // decided by the bounding-ball pre-test
-                // decided by the containment certificate (GjkSettings::containment_test): a support point
-                // inside the other shape, no simplex
-                by_containment += bo.status == GjkStatus::intersecting && bo.iterations >= 1 && bo.simplex.size == 0;
-                bool ref_hit = ref.colliding;
-                hits += ref_hit;
-                if (!ref_hit && ref.distance > 1e-9L * 0.1L) {
-                    if (bo.colliding || d.colliding) ++fail_bool;
-                    if (ref.distance > 1e-7L) {
-                        ++dist_checked;
-                        if (std::abs(LD(d.distance) - ref.distance) > 1e-9L * ref.distance) ++fail_dist_plain;
-                        const LD ref_c = certified_reference(al, pa.cast<LD>(), bl, pb.cast<LD>(), ref, d.normal);
-                        if (std::abs(LD(d.distance) - ref_c) > 1e-9L * ref_c) {
-                            if (++fail_dist <= 5)
-                                std::printf("  distance failure: case %ld pair %ld: %.17g vs reference %.17Lg "
-                                            "(certified-clamped %.17Lg), %d it, status %d\n",
-                                            i, i % 6, d.distance, ref.distance, ref_c, d.iterations, int(d.status));
-                        }
-                    }
-                } else if (ref_hit && !(bo.colliding && d.colliding)) {
-                    ++fail_bool;
-                }
-            };
-            switch (i % 6) {
-                case 0: check(h1, h1l, h2, h2l); break;
-                case 1: check(h1, h1l, e, el); break;
-                case 2: check(e, el, cy, cyl_l); break;
-                case 3: check(cy, cyl_l, h2, h2l); break;
-                case 4: check(co, co_l, cy, cyl_l); break;
-                default: check(co2, co2_l, co, co_l); break;
-            }
-        }
-        double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-        std::printf("checked counter: %ld seeded cases (%ld colliding), boolean failures %ld, distance checks %ld with "
-                    "rel. error > 1e-9: %ld against the certified-clamped reference (%ld against the plain "
-                    "long-double one); booleans decided by the bounding balls: %ld, by containment: %ld  (%.1f s)\n",
-                    checks, hits, fail_bool, dist_checked, fail_dist, fail_dist_plain, by_balls, by_containment, secs);
-        if (fail_bool || fail_dist) return 1;  // booleans exact, distances within 1e-9 of the certified interval
-    }
+    // The checked counter (checked_counter.hpp): every class judged by an oracle independent of cdkit's GJK.
+    if (checks > 0 && cdbench::run_checked_counter(checks) != 0) return 1;
     return 0;
 }
