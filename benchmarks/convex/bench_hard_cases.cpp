@@ -15,6 +15,7 @@
 #include "oracles/exact_polytope.hpp"
 #include "../provenance.hpp"
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -38,6 +39,33 @@ std::string sci(double x) {
         if (s[e + 1] == '+') s.erase(e + 1, 1);
     }
     return s;
+}
+
+/// " <=1e-15 n <=1e-12 n ...": one histogram's bins after its heading.
+template <std::size_t N> void print_bins(const std::array<long, N>& bins, const std::array<const char*, N>& names) {
+    for (std::size_t k = 0; k < N; ++k) std::printf(" %s %ld", names[k], bins[k]);
+}
+
+/// The lines both judges print from their JudgedCounts: disagreements by gap, then the separation distances'
+/// errors, all and far; each heading is the judge's, and `gap_tail` / `far_tail` end the first and last line.
+void print_judged(const JudgedCounts& j, const char* gap_head, const std::string& gap_tail, const char* dist_head,
+                  const char* far_head, const std::string& far_tail) {
+    std::printf("%s", gap_head);
+    print_bins(j.disagree_by_gap, gap_bin_names);
+    std::printf("%s\n", gap_tail.c_str());
+    std::printf(dist_head, j.distances);
+    print_bins(j.distance_error, error_bin_names);
+    std::printf("; worst %.3g\n", j.worst_distance_error);
+    std::printf(far_head, j.distances_far);
+    print_bins(j.distance_error_far, error_bin_names);
+    std::printf("; worst %.3g%s\n", j.worst_distance_error_far, far_tail.c_str());
+}
+
+/// printf into a std::string (the tails above).
+template <class... T> std::string format(const char* f, T... x) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, f, x...);
+    return buf;
 }
 }  // namespace
 
@@ -121,18 +149,10 @@ int main(int argc, char** argv) {
                         x.overlapping, x.touching, x.in_band, x.answers, x.wrong, x.distances);
         }
         std::printf("%s", e.first_wrong.c_str());
-        std::printf("disagreements with the exact answer by |exact gap| / size:");
-        for (std::size_t k = 0; k < e.disagree_by_gap.size(); ++k)
-            std::printf(" %s %ld", gap_bin_names[k], e.disagree_by_gap[k]);
-        std::printf(" (%ld of them inside the band, not failures)\n", e.disagree_band);
-        std::printf("separation distances, |d - exact| / max(exact, 1e-9 size), %ld answers:", e.distances);
-        for (std::size_t k = 0; k < e.distance_error.size(); ++k)
-            std::printf(" %s %ld", error_bin_names[k], e.distance_error[k]);
-        std::printf("; worst %.3g\n", e.worst_distance_error);
-        std::printf("  of them exact distance > 1e-6 size, |d - exact| / exact, %ld answers:", e.distances_far);
-        for (std::size_t k = 0; k < e.distance_error_far.size(); ++k)
-            std::printf(" %s %ld", error_bin_names[k], e.distance_error_far[k]);
-        std::printf("; worst %.3g\n", e.worst_distance_error_far);
+        print_judged(e, "disagreements with the exact answer by |exact gap| / size:",
+                     format(" (%ld of them inside the band, not failures)", e.disagree_band),
+                     "separation distances, |d - exact| / max(exact, 1e-9 size), %ld answers:",
+                     "  of them exact distance > 1e-6 size, |d - exact| / exact, %ld answers:", "");
         std::printf("EPA brackets [depth_lower, depth] contradicting the exact L-inf depth bounds: %ld of %ld\n",
                     e.epa_contradicted, e.epa_checked);
         std::printf("curved referee against the exact answer on these polytope cases: %ld checked, %ld undecided, %ld "
@@ -156,21 +176,12 @@ int main(int argc, char** argv) {
         }
         std::printf("%s", v.first_wrong.c_str());
         std::printf("%s", v.first_undecided.c_str());
-        std::printf("curved disagreements by certified gap (distance lower end, or depth lower bound) / size:");
-        for (std::size_t k = 0; k < v.disagree_by_gap.size(); ++k)
-            std::printf(" %s %ld", gap_bin_names[k], v.disagree_by_gap[k]);
-        std::printf(" (%ld in the band, %ld undecided against it)\n", v.disagree_band, v.disagree_undecided);
-        std::printf("curved separation distances, off the certified interval / max(lower, 1e-9 size), %ld answers:",
-                    v.distances);
-        for (std::size_t k = 0; k < v.distance_error.size(); ++k)
-            std::printf(" %s %ld", error_bin_names[k], v.distance_error[k]);
-        std::printf("; worst %.3g\n", v.worst_distance_error);
-        std::printf("  of them certified distance > 1e-6 size, off / lower, %ld answers:", v.distances_far);
-        for (std::size_t k = 0; k < v.distance_error_far.size(); ++k)
-            std::printf(" %s %ld", error_bin_names[k], v.distance_error_far[k]);
-        std::printf("; worst %.3g; widest certified interval %.3g relative; %.1f referee rounds per case\n",
-                    v.worst_distance_error_far, v.widest_interval,
-                    v.judged ? double(v.iterations) / double(v.judged) : 0.0);
+        print_judged(v, "curved disagreements by certified gap (distance lower end, or depth lower bound) / size:",
+                     format(" (%ld in the band, %ld undecided against it)", v.disagree_band, v.disagree_undecided),
+                     "curved separation distances, off the certified interval / max(lower, 1e-9 size), %ld answers:",
+                     "  of them certified distance > 1e-6 size, off / lower, %ld answers:",
+                     format("; widest certified interval %.3g relative; %.1f referee rounds per case",
+                            v.widest_interval, v.judged ? double(v.iterations) / double(v.judged) : 0.0));
         std::printf("curved judge: %ld cases, judged %ld (apart %ld, overlapping %ld), undecided %ld, wrong booleans "
                     "%ld (of %ld answers), disagreements in band %ld, undecided against the band %ld\n",
                     all.cases, v.judged, v.separated, v.overlapping, v.undecided, v.wrong, v.answers,

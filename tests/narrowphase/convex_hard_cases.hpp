@@ -93,32 +93,26 @@ inline std::size_t error_bin(double e) {
     return e <= 1e-15 ? 0 : e <= 1e-12 ? 1 : e <= 1e-9 ? 2 : e <= 1e-6 ? 3 : e <= 1e-3 ? 4 : 5;
 }
 
-/// What the exact judge counted (cases, answers) over the polytope cases.
-struct ExactCounts {
-    long judged = 0, not_judged = 0;           ///< polytope cases / curved cases left unjudged (no curved referee)
-    long separated = 0, overlapping = 0;       ///< exact: apart (distance > 0), overlapping with depth
-    long touching = 0;                         ///< exact: touching (undecided: either boolean is right)
-    long in_band = 0;                          ///< exact gap or L∞ depth in (0, band_rel·size]
+/// What both judges count over the cases they judge: a certified (or exact) side per case, each boolean answer
+/// against it, each separation distance against the judge's distance (histograms).
+struct JudgedCounts {
+    long judged = 0;                           ///< cases given to the judge
+    long separated = 0, overlapping = 0;       ///< judged apart / overlapping (with depth, or certified)
     long answers = 0;                          ///< boolean answers judged
-    long wrong = 0;                            ///< answers contradicting the exact sign outside the band (failures)
-    long disagree_band = 0;                    ///< answers on the other side of an in-band exact answer
+    long wrong = 0;                            ///< answers contradicting the judge beyond the band (failures)
+    long disagree_band = 0;                    ///< answers on the other side of an answer within the band
     std::array<long, 5> disagree_by_gap{};     ///< every disagreement, by gap_bin_names
-    long distances = 0;                        ///< separation distances judged (exact > 0, answer not intersecting)
-    std::array<long, 6> distance_error{};      ///< by error_bin_names
+    long distances = 0;                        ///< separation distances judged (judged apart, answer not intersecting)
+    std::array<long, 6> distance_error{};      ///< by error_bin_names (relative to max(distance, 1e-9·size))
     double worst_distance_error = 0;
-    long distances_far = 0;                    ///< of them, exact distance > 1e-6·size (the relative-error domain)
-    std::array<long, 6> distance_error_far{};  ///< |d − exact| / exact there, by error_bin_names
+    long distances_far = 0;                    ///< of them, the judge's distance > 1e-6·size (the relative-error domain)
+    std::array<long, 6> distance_error_far{};  ///< relative error there, by error_bin_names
     double worst_distance_error_far = 0;
-    long epa_checked = 0, epa_contradicted = 0;  ///< EPA brackets against δ ∈ [depth_inf/√3, depth_inf]
-    /// The curved referee checked against the exact answer on these polytope cases (its boxes and hulls, the
-    /// triangles as hulls): cases, undecided, contradicted (a certificate the exact answer refutes).
-    long referee_checked = 0, referee_undecided = 0, referee_contradicted = 0;
-    std::string first_wrong;
+    std::string first_wrong;  ///< one line for each of the first dozen wrong answers
     int wrong_described = 0;
-    void add(const ExactCounts& c) {
-        judged += c.judged, not_judged += c.not_judged, separated += c.separated, overlapping += c.overlapping;
-        touching += c.touching, in_band += c.in_band, answers += c.answers, wrong += c.wrong;
-        disagree_band += c.disagree_band;
+    void add(const JudgedCounts& c) {
+        judged += c.judged, separated += c.separated, overlapping += c.overlapping;
+        answers += c.answers, wrong += c.wrong, disagree_band += c.disagree_band;
         for (std::size_t k = 0; k < disagree_by_gap.size(); ++k) disagree_by_gap[k] += c.disagree_by_gap[k];
         distances += c.distances;
         for (std::size_t k = 0; k < distance_error.size(); ++k) distance_error[k] += c.distance_error[k];
@@ -126,49 +120,42 @@ struct ExactCounts {
         distances_far += c.distances_far;
         for (std::size_t k = 0; k < distance_error_far.size(); ++k) distance_error_far[k] += c.distance_error_far[k];
         worst_distance_error_far = std::max(worst_distance_error_far, c.worst_distance_error_far);
-        epa_checked += c.epa_checked, epa_contradicted += c.epa_contradicted;
-        referee_checked += c.referee_checked, referee_undecided += c.referee_undecided;
-        referee_contradicted += c.referee_contradicted;
         if (wrong_described < 12) first_wrong += c.first_wrong, wrong_described += c.wrong_described;
     }
 };
 
-/// What the curved judge counted over the cases with a curved shape.
-struct CurvedCounts {
-    long judged = 0;                           ///< cases with a curved shape given to the referee
-    long separated = 0, overlapping = 0;       ///< certified apart / certified intersecting
+/// What the exact judge counted over the polytope cases (separated: exact distance > 0; overlapping: with depth).
+struct ExactCounts : JudgedCounts {
+    long not_judged = 0;                       ///< curved cases (left to the curved referee)
+    long touching = 0;                         ///< exact: touching (undecided: either boolean is right)
+    long in_band = 0;                          ///< exact gap or L∞ depth in (0, band_rel·size]
+    long epa_checked = 0, epa_contradicted = 0;  ///< EPA brackets against δ ∈ [depth_inf/√3, depth_inf]
+    /// The curved referee checked against the exact answer on these polytope cases (its boxes and hulls, the
+    /// triangles as hulls): cases, undecided, contradicted (a certificate the exact answer refutes).
+    long referee_checked = 0, referee_undecided = 0, referee_contradicted = 0;
+    void add(const ExactCounts& c) {
+        JudgedCounts::add(c);
+        not_judged += c.not_judged, touching += c.touching, in_band += c.in_band;
+        epa_checked += c.epa_checked, epa_contradicted += c.epa_contradicted;
+        referee_checked += c.referee_checked, referee_undecided += c.referee_undecided;
+        referee_contradicted += c.referee_contradicted;
+    }
+};
+
+/// What the curved judge counted over the cases with a curved shape (separated / overlapping: certified; the
+/// distance errors are off the certified interval, relative to max(lower, 1e-9·size) and, far, to lower).
+struct CurvedCounts : JudgedCounts {
     long undecided = 0;                        ///< no certificate (touching within its error bounds, or search failed)
-    long answers = 0;                          ///< boolean answers judged (of decided cases)
-    long wrong = 0;                            ///< answers contradicting a certificate beyond the band (failures)
-    long disagree_band = 0;                    ///< contradicting answers where the certified gap or depth is in the band
     long disagree_undecided = 0;               ///< contradicting an overlap whose depth the referee cannot place
-    std::array<long, 5> disagree_by_gap{};     ///< every disagreement, by gap_bin_names (certified distance / depth bound)
-    long distances = 0;                        ///< separation distances judged (certified apart, answer not intersecting)
-    std::array<long, 6> distance_error{};      ///< off the certified interval / max(lower, 1e-9·size), by error_bin_names
-    double worst_distance_error = 0;
-    long distances_far = 0;                    ///< of them, certified distance > 1e-6·size
-    std::array<long, 6> distance_error_far{};  ///< off the interval / lower there
-    double worst_distance_error_far = 0;
     double widest_interval = 0;                ///< the widest certified interval, (upper − lower) / max(lower, 1e-9·size)
     long iterations = 0;                       ///< the referee's support rounds, summed
-    std::string first_wrong;
-    int wrong_described = 0;
     std::string first_undecided;  ///< one line for each of the first undecided cases (pose digits to rebuild it)
     int undecided_described = 0;
     void add(const CurvedCounts& c) {
-        judged += c.judged, separated += c.separated, overlapping += c.overlapping, undecided += c.undecided;
-        answers += c.answers, wrong += c.wrong, disagree_band += c.disagree_band;
-        disagree_undecided += c.disagree_undecided;
-        for (std::size_t k = 0; k < disagree_by_gap.size(); ++k) disagree_by_gap[k] += c.disagree_by_gap[k];
-        distances += c.distances;
-        for (std::size_t k = 0; k < distance_error.size(); ++k) distance_error[k] += c.distance_error[k];
-        worst_distance_error = std::max(worst_distance_error, c.worst_distance_error);
-        distances_far += c.distances_far;
-        for (std::size_t k = 0; k < distance_error_far.size(); ++k) distance_error_far[k] += c.distance_error_far[k];
-        worst_distance_error_far = std::max(worst_distance_error_far, c.worst_distance_error_far);
+        JudgedCounts::add(c);
+        undecided += c.undecided, disagree_undecided += c.disagree_undecided;
         widest_interval = std::max(widest_interval, c.widest_interval);
         iterations += c.iterations;
-        if (wrong_described < 12) first_wrong += c.first_wrong, wrong_described += c.wrong_described;
         if (undecided_described < 6)
             first_undecided += c.first_undecided, undecided_described += c.undecided_described;
     }
