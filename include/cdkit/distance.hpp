@@ -33,6 +33,7 @@
 #include "cdkit/bvh/detail/distance_triangle_gap.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/bvh/traverse.hpp"
+#include "cdkit/core/distance_result.hpp"
 #include "cdkit/narrowphase/triangle_distance.hpp"
 #include "cdkit/query.hpp"
 
@@ -42,31 +43,6 @@
 #include <vector>
 
 namespace cdkit {
-
-/// Accuracy wanted from distance(). The result satisfies distance ≤ (1 + rel_err)·true + abs_err (and
-/// distance ≥ true up to rounding); larger errors prune more and answer sooner. Both must be ≥ 0.
-template <class S = double> struct DistanceRequest {
-    S rel_err = 0;
-    S abs_err = 0;
-};
-
-/// Work counters of one distance query.
-struct DistanceStats {
-    std::uint64_t bv_tests = 0;        ///< BV lower-bound evaluations
-    std::uint64_t primitive_tests = 0; ///< triangle_distance evaluations
-    std::uint64_t primitive_skips = 0; ///< triangle pairs skipped by a projection gap (bvh/detail/distance_triangle_gap.hpp)
-};
-
-/// Result of distance(). Points are in the world frame.
-template <class S> struct DistanceResult {
-    QueryStatus status = QueryStatus::ok;  ///< invalid_pose: a pose was not a rigid motion; distance stays +inf
-    S distance = std::numeric_limits<S>::infinity();  ///< 0 when the meshes intersect (touching counts)
-    Vec3<S> point_a = Vec3<S>::Zero();  ///< on triangle_a of A, at `distance` from point_b
-    Vec3<S> point_b = Vec3<S>::Zero();  ///< on triangle_b of B
-    Index triangle_a = 0;               ///< index into A's mesh.triangles
-    Index triangle_b = 0;
-    DistanceStats stats;
-};
 
 namespace detail {
 /// Distance of triangle ta of A and tb of B (B carried to A's frame); records it in `out` (A's frame

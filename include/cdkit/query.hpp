@@ -6,8 +6,8 @@
 /// Queries are const and thread-safe: any number of threads may query the same models at once.
 
 #include "cdkit/bvh/mesh_model.hpp"
-#include "cdkit/core/contact_mode.hpp"
 #include "cdkit/bvh/traverse.hpp"
+#include "cdkit/core/collision_result.hpp"
 #include "cdkit/narrowphase/triangle.hpp"
 
 #include <limits>
@@ -16,38 +16,7 @@
 
 namespace cdkit {
 
-struct CollisionRequest {
-    ContactMode mode = ContactMode::first;
-    /// In ContactMode::all, stop after this many contacts (the result says it was truncated).
-    std::size_t max_contacts = std::numeric_limits<std::size_t>::max();
-};
-
-/// One intersecting triangle pair. Points are in the world frame.
-template <class S> struct Contact {
-    Index triangle_a = 0;      ///< index into model A's mesh.triangles
-    Index triangle_b = 0;
-    Vec3<S> point;             ///< a witness point on both triangles (the segment's midpoint)
-    Vec3<S> segment[2];        ///< the intersection segment (equal end points for a single touching point)
-    bool coplanar = false;     ///< the triangles are coplanar; the segment spans part of the overlap region
-};
-
-struct CollisionStats : TraversalStats {};
-
-template <class S> struct CollisionResult {
-    QueryStatus status = QueryStatus::ok;  ///< invalid_pose: a pose was not a rigid motion; nothing was tested
-    bool colliding = false;
-    bool truncated = false;  ///< ContactMode::all stopped at max_contacts
-    std::vector<Contact<S>> contacts;
-    CollisionStats stats;
-};
-
 namespace detail {
-/// B's vertex in A's frame. Brute force and the BVH query share this one function so that they see the
-/// same rounded points, and the BV fit's padding covers its rounding.
-template <class S> [[nodiscard]] inline Vec3<S> to_frame_a(const Transform<S>& b_to_a, const Vec3<S>& v) noexcept {
-    return b_to_a.R * v + b_to_a.t;
-}
-
 /// Tests triangle ta of A against tb of B (already in A's frame) and records a contact on a hit.
 template <class S>
 inline bool test_triangle_pair(const TriangleMesh<S>& ma, Index ta, const TriangleMesh<S>& mb, Index tb,

@@ -4,18 +4,12 @@
 /// Tree B's volumes are tested where they are, through the relative transform B→A computed once per query.
 
 #include "cdkit/bvh/bvh.hpp"
+#include "cdkit/core/collision_result.hpp"
 
 #include <array>
 #include <cstdint>
 
 namespace cdkit {
-
-/// Work counters of one query, so that a time can be explained.
-struct TraversalStats {
-    std::uint64_t bv_tests = 0;        ///< BV overlap tests
-    std::uint64_t leaf_pairs = 0;      ///< leaf pairs reached (both BVs overlapping)
-    std::uint64_t primitive_tests = 0; ///< triangle pair tests
-};
 
 namespace detail {
 /// A stack that lives on the call stack while it fits (balanced trees of up to 2^60 leaves), and spills to
