@@ -29,6 +29,7 @@
 /// Queries are const and thread-safe, and never throw (except std::bad_alloc when the open-pair heap grows:
 /// a thread_local vector whose storage the thread's later queries reuse, so no allocation per query).
 
+#include "cdkit/bvh/boxtree_descent.hpp"
 #include "cdkit/bvh/bvh_descent.hpp"
 #include "cdkit/bvh/detail/distance_triangle_gap.hpp"
 #include "cdkit/bvh/traverse.hpp"

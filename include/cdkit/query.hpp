@@ -7,6 +7,7 @@
 /// pose_a⁻¹·pose_b, computed once per query, and no mesh is copied or re-transformed as a whole.
 /// Queries are const and thread-safe: any number of threads may query the same models at once.
 
+#include "cdkit/bvh/boxtree_descent.hpp"
 #include "cdkit/bvh/bvh_descent.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/bvh/traverse.hpp"
