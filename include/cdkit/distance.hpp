@@ -177,7 +177,8 @@ template <class A, class B>
     Item it{pair.a.root(), pair.b.root(), S(0)};
     it.bound = pair.root_bound(it.a, it.b);
     while (it.bound < threshold()) {  // `it` is the smallest open pair: when it fails, all do
-        if (pair.a.is_leaf(it.a) && pair.b.is_leaf(it.b)) {
+        const bool xl = pair.a.is_leaf(it.a), yl = pair.b.is_leaf(it.b);
+        if (xl && yl) {
             // A positive bound proves the leaves' triangles disjoint: skip the exact intersection test, and
             // skip pairs that a projection gap shows to be no nearer than the threshold.
             const bool disjoint = it.bound > S(0);
@@ -194,8 +195,8 @@ template <class A, class B>
         // Split the node the descent rule picks (bvh/traverse.hpp); a one-child node gives c1 a bound of +inf.
         Item c0, c1;
         const S th = threshold();
-        out.stats.bv_tests += detail::descends_a(pair, it.a, it.b) ? pair.template child_bounds<true>(it, th, c0, c1)
-                                                                   : pair.template child_bounds<false>(it, th, c0, c1);
+        out.stats.bv_tests += detail::descends_a(pair, it.a, it.b, xl, yl) ? pair.template child_bounds<true>(it, th, c0, c1)
+                                                                           : pair.template child_bounds<false>(it, th, c0, c1);
         if (c1.bound < c0.bound) std::swap(c0, c1);
         if (c1.bound < th) detail::heap_push(heap, c1);
         if (!(c0.bound < th)) {

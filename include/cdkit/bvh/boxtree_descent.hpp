@@ -56,9 +56,10 @@ struct BoxtreeDescentTree {
     [[nodiscard]] std::uint32_t child_count(const Cursor& c) const noexcept {
         return std::uint32_t(nodes[c.node].kind());  // leaf 0, one_child 1, two_children 2
     }
-    [[nodiscard]] Cursor child(const Cursor& c, std::uint32_t i) const noexcept {
-        const std::uint32_t k = nodes[c.node].index() + i;
-        return {k, restrict_box(c.box, nodes[k])};
+    void descend(Cursor& c, std::uint32_t i) const noexcept {
+        c.node = nodes[c.node].index() + i;
+        const BoxtreeNode& n = nodes[c.node];
+        if (n.axis() != BoxtreeNode::no_axis) c.box[n.upper() ? n.axis() + 3 : n.axis()] = n.plane;
     }
     /// A one-child node first (one cheap step that only tightens: 12 % fewer steps on the bunny), else the
     /// larger box by sum of extents.
@@ -262,7 +263,7 @@ template <class S> struct BoxtreeDescentPair {
         for (std::uint32_t i = 0; i < n; ++i) {
             Item& c = *out[i];
             c = it;
-            (DescendA ? c.a : c.b) = t.child(parent, i);
+            t.descend(DescendA ? c.a : c.b, i);
             c.bound = rel.distance_bound(c.a.box, c.b.box, th);
         }
         if (n == 1) c1.bound = std::numeric_limits<S>::infinity();

@@ -22,12 +22,13 @@ namespace cdkit {
 /// the tree carries down (the restricted boxtree's implied box). Also `for_each_triangle(c, f)`: f(Index) for
 /// a leaf's triangles until f returns false (returns false then).
 template <class T>
-concept DescentTree = std::copyable<typename T::Cursor> && requires(const T& t, const typename T::Cursor& c, std::uint32_t i) {
+concept DescentTree = std::copyable<typename T::Cursor> &&
+                      requires(const T& t, const typename T::Cursor& c, typename T::Cursor& cc, std::uint32_t i) {
     { t.empty() } -> std::same_as<bool>;
     { t.root() } -> std::same_as<typename T::Cursor>;
     { t.is_leaf(c) } -> std::same_as<bool>;
     { t.child_count(c) } -> std::same_as<std::uint32_t>;  ///< 0 at a leaf, else 1 or 2
-    { t.child(c, i) } -> std::same_as<typename T::Cursor>;
+    { t.descend(cc, i) };  ///< moves the cursor to its i-th child
     { t.split_priority(c) < t.split_priority(c) } -> std::convertible_to<bool>;  ///< the larger is split first
 };
 
@@ -75,9 +76,11 @@ private:
 
 /// Which node of the pair (x, y), not both leaves, the descent splits: the one that is not a leaf, else the
 /// one of larger split_priority (A's on a tie). True: A's.
+/// `xl`, `yl`: whether x, y are leaves.
 template <DescentPair P>
-[[nodiscard]] inline bool descends_a(const P& p, const typename P::TreeA::Cursor& x, const typename P::TreeB::Cursor& y) noexcept {
-    return p.b.is_leaf(y) || (!p.a.is_leaf(x) && !(p.a.split_priority(x) < p.b.split_priority(y)));
+[[nodiscard]] inline bool descends_a(const P& p, const typename P::TreeA::Cursor& x, const typename P::TreeB::Cursor& y,
+                                     bool xl, bool yl) noexcept {
+    return yl || (!xl && !(p.a.split_priority(x) < p.b.split_priority(y)));
 }
 }  // namespace detail
 
@@ -101,7 +104,8 @@ bool traverse_overlapping_leaves(const P& pair, Visitor&& visit, TraversalStats&
     if (!pair.roots_overlap(p.a, p.b)) return true;
     detail::SmallStack<Pair, 128> stack;
     for (;;) {
-        if (ta.is_leaf(p.a) && tb.is_leaf(p.b)) {
+        const bool xl = ta.is_leaf(p.a), yl = tb.is_leaf(p.b);
+        if (xl && yl) {
             bool reached = true;
             if constexpr (P::tests_leaf_pairs) {
                 ++stats.bv_tests;
@@ -112,24 +116,26 @@ bool traverse_overlapping_leaves(const P& pair, Visitor&& visit, TraversalStats&
                 if (!visit(p.a, p.b)) return false;
             }
         } else {
-            Pair q0 = p, q1 = p;
+            // Both child pairs are made and tested before either is entered. The pair in hand becomes the first
+            // (its cursor moves to the child in place: the boxtree's implied box changes by one face, and a copy
+            // of the whole pair right after that narrow store would stall on store forwarding), q1 the second.
+            Pair q1 = p;
             bool ok0, ok1 = false;
             std::uint32_t n;
-            if (detail::descends_a(pair, p.a, p.b)) {
+            if (detail::descends_a(pair, p.a, p.b, xl, yl)) {
                 n = ta.child_count(p.a);
-                q0.a = ta.child(p.a, 0);
-                ok0 = pair.template children_overlap<true>(q0.a, q0.b);
-                if (n == 2) q1.a = ta.child(p.a, 1), ok1 = pair.template children_overlap<true>(q1.a, q1.b);
+                if (n == 2) ta.descend(q1.a, 1), ok1 = pair.template children_overlap<true>(q1.a, q1.b);
+                ta.descend(p.a, 0);
+                ok0 = pair.template children_overlap<true>(p.a, p.b);
             } else {
                 n = tb.child_count(p.b);
-                q0.b = tb.child(p.b, 0);
-                ok0 = pair.template children_overlap<false>(q0.a, q0.b);
-                if (n == 2) q1.b = tb.child(p.b, 1), ok1 = pair.template children_overlap<false>(q1.a, q1.b);
+                if (n == 2) tb.descend(q1.b, 1), ok1 = pair.template children_overlap<false>(q1.a, q1.b);
+                tb.descend(p.b, 0);
+                ok0 = pair.template children_overlap<false>(p.a, p.b);
             }
             stats.bv_tests += n;
             if (ok0) {
                 if (ok1) stack.push(q1);
-                p = q0;
                 continue;
             }
             if (ok1) {
