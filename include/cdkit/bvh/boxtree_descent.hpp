@@ -259,6 +259,7 @@ template <class S> struct BoxtreeDescentPair {
         const TreeA& t = DescendA ? a : b;
         const Cursor& parent = DescendA ? it.a : it.b;
         const std::uint32_t n = t.child_count(parent);
+        c1.bound = std::numeric_limits<S>::infinity();  // stays for a one-child node
         Item* out[2] = {&c0, &c1};
         for (std::uint32_t i = 0; i < n; ++i) {
             Item& c = *out[i];
@@ -266,7 +267,6 @@ template <class S> struct BoxtreeDescentPair {
             t.descend(DescendA ? c.a : c.b, i);
             c.bound = rel.distance_bound(c.a.box, c.b.box, th);
         }
-        if (n == 1) c1.bound = std::numeric_limits<S>::infinity();
         return n;
     }
 };
