@@ -16,7 +16,7 @@
 #include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/sphere.hpp"
-#include "cdkit/boxtree_collide.hpp"
+#include "cdkit/bvh/boxtree.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/io/load_mesh.hpp"
 #include "cdkit/query.hpp"

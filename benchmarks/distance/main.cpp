@@ -21,8 +21,8 @@
 //   --full: bunny + every dragon.
 #include "distance_poses.hpp"
 #include "../thread_cpu_clock.hpp"
+#include "cdkit/bvh/boxtree.hpp"
 #include "cdkit/cdkit.hpp"
-#include "cdkit/boxtree_distance.hpp"
 #include "cdkit/distance.hpp"
 
 #include "../../tests/oracles/fcl_mesh.hpp"        // the FCL model builder the FCL tests use

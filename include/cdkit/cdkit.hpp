@@ -15,8 +15,6 @@
 #include "cdkit/bv/sphere.hpp"
 #include "cdkit/bv/triangle_moments.hpp"
 #include "cdkit/bvh/boxtree.hpp"
-#include "cdkit/boxtree_collide.hpp"
-#include "cdkit/boxtree_distance.hpp"
 #include "cdkit/bvh/boxtree_node.hpp"
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/build.hpp"

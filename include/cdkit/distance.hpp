@@ -1,6 +1,6 @@
 #pragma once
-/// \file distance(): separation distance between two meshes on their BVHs, with closest points, and
-/// distance_brute_force(), the all-pairs reference.
+/// \file distance(): separation distance between two meshes on their trees (MeshModel<BV, M> of any bounding
+/// volume, RestrictedBoxtree<S>), with closest points, and distance_brute_force(), the all-pairs reference.
 ///
 /// Method: branch and bound over both trees (the scheme of Larsen, Gottschalk, Lin, Manocha, "Fast
 /// proximity queries with swept sphere volumes", UNC TR99-018, 1999, used by PQP and FCL). The query works
@@ -19,7 +19,8 @@
 /// With both errors 0 the answer is the minimum of triangle_distance() over all pairs, bit for bit the
 /// value distance_brute_force() computes (same routine, same rounded vertices): a pair is pruned only when
 /// its bound, which never exceeds any of its triangle pairs' computed distances, reaches the best value.
-/// The tightest volume for this is Rss (a rectangle swept by a sphere); Obb and Aabb work too.
+/// The tightest volume for this is Rss (a rectangle swept by a sphere); Obb and Aabb work too, and so do
+/// the restricted boxtree's implied boxes (a one-child node has one child: it is the only open pair made).
 /// A leaf pair whose bound is positive holds disjoint triangles (the bound never exceeds their computed
 /// distance), so its triangle pairs skip triangle_distance()'s exact intersection test, with the same result.
 /// Such a pair is skipped altogether when a projection gap of the two triangles (the 11 separating axes,
@@ -28,11 +29,11 @@
 /// Queries are const and thread-safe, and never throw (except std::bad_alloc when the open-pair heap grows:
 /// a thread_local vector whose storage the thread's later queries reuse, so no allocation per query).
 
-#include "cdkit/bv/bv_distance.hpp"
-#include "cdkit/bv/detail/distance_rss_pair.hpp"
+#include "cdkit/bvh/boxtree_descent.hpp"
+#include "cdkit/bvh/bvh_descent.hpp"
 #include "cdkit/bvh/detail/distance_triangle_gap.hpp"
-#include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/bvh/traverse.hpp"
+#include "cdkit/core/distance_result.hpp"
 #include "cdkit/narrowphase/triangle_distance.hpp"
 #include "cdkit/query.hpp"
 
@@ -42,31 +43,6 @@
 #include <vector>
 
 namespace cdkit {
-
-/// Accuracy wanted from distance(). The result satisfies distance ≤ (1 + rel_err)·true + abs_err (and
-/// distance ≥ true up to rounding); larger errors prune more and answer sooner. Both must be ≥ 0.
-template <class S = double> struct DistanceRequest {
-    S rel_err = 0;
-    S abs_err = 0;
-};
-
-/// Work counters of one distance query.
-struct DistanceStats {
-    std::uint64_t bv_tests = 0;        ///< BV lower-bound evaluations
-    std::uint64_t primitive_tests = 0; ///< triangle_distance evaluations
-    std::uint64_t primitive_skips = 0; ///< triangle pairs skipped by a projection gap (bvh/detail/distance_triangle_gap.hpp)
-};
-
-/// Result of distance(). Points are in the world frame.
-template <class S> struct DistanceResult {
-    QueryStatus status = QueryStatus::ok;  ///< invalid_pose: a pose was not a rigid motion; distance stays +inf
-    S distance = std::numeric_limits<S>::infinity();  ///< 0 when the meshes intersect (touching counts)
-    Vec3<S> point_a = Vec3<S>::Zero();  ///< on triangle_a of A, at `distance` from point_b
-    Vec3<S> point_b = Vec3<S>::Zero();  ///< on triangle_b of B
-    Index triangle_a = 0;               ///< index into A's mesh.triangles
-    Index triangle_b = 0;
-    DistanceStats stats;
-};
 
 namespace detail {
 /// Distance of triangle ta of A and tb of B (B carried to A's frame); records it in `out` (A's frame
@@ -105,36 +81,17 @@ inline void distance_triangle_pair(const TriangleMesh<S>& ma, Index ta, const Tr
     }
 }
 
-/// Volumes with transformed(bv, R, t) and distance_lower_bound_same_frame (Rss): when one node is tested
-/// against both children of the other, it is moved into their frame once instead of once per child.
-template <class BV>
-concept MovableDistanceBound = requires(const BV& b, const Mat3<typename BV::Scalar>& R, const Vec3<typename BV::Scalar>& t,
-                                        typename BV::Scalar s) {
-    { transformed(b, R, t) } -> std::same_as<BV>;
-    { distance_lower_bound_same_frame(b, b, s, s) } -> std::same_as<typename BV::Scalar>;
-};
-
-/// Lower bounds of two sibling volumes a0, a1 against b (all in one frame): the Rss bounds in two SIMD lanes
-/// (bv/detail/distance_rss_pair.hpp), other volumes one at a time.
-template <class BV, class B>
-inline void children_lower_bounds(const BV& a0, const BV& a1, const BV& b, B slack, B cutoff, B out[2]) noexcept {
-    if constexpr (std::is_same_v<BV, Rss<B>>) {
-        rss_pair_lower_bounds(a0, a1, b, slack, out);  // always the full bound: no cutoff
-    } else {
-        out[0] = distance_lower_bound_same_frame(a0, b, slack, cutoff);
-        out[1] = distance_lower_bound_same_frame(a1, b, slack, cutoff);
-    }
-}
-
-/// An open node pair of distance(): node indices into A's and B's trees and the pair's lower bound.
-template <class S> struct OpenPair {
-    std::uint32_t a, b;
+/// An open node pair of distance(): the two trees' cursors (node indices, with the boxtree's implied boxes)
+/// and the pair's lower bound.
+template <class CursorA, class CursorB, class S> struct OpenPair {
+    CursorA a;
+    CursorB b;
     S bound;
 };
 
 /// A binary min-heap on OpenPair::bound, in a vector (std::push_heap's order, with a replace-top that sifts
 /// once where pop then push would sift twice).
-template <class S> inline void heap_push(std::vector<OpenPair<S>>& h, const OpenPair<S>& x) {
+template <class Item> inline void heap_push(std::vector<Item>& h, const Item& x) {
     std::size_t i = h.size();
     h.push_back(x);
     while (i > 0) {
@@ -146,7 +103,7 @@ template <class S> inline void heap_push(std::vector<OpenPair<S>>& h, const Open
     h[i] = x;
 }
 /// Replaces the smallest item by x and restores the heap.
-template <class S> inline void heap_replace_top(std::vector<OpenPair<S>>& h, const OpenPair<S>& x) noexcept {
+template <class Item> inline void heap_replace_top(std::vector<Item>& h, const Item& x) noexcept {
     const std::size_t n = h.size();
     std::size_t i = 0;
     while (true) {
@@ -160,9 +117,9 @@ template <class S> inline void heap_replace_top(std::vector<OpenPair<S>>& h, con
     h[i] = x;
 }
 /// Removes and returns the smallest item (h not empty).
-template <class S> [[nodiscard]] inline OpenPair<S> heap_pop(std::vector<OpenPair<S>>& h) noexcept {
-    const OpenPair<S> top = h.front();
-    const OpenPair<S> last = h.back();
+template <class Item> [[nodiscard]] inline Item heap_pop(std::vector<Item>& h) noexcept {
+    const Item top = h.front();
+    const Item last = h.back();
     h.pop_back();
     if (!h.empty()) heap_replace_top(h, last);
     return top;
@@ -174,48 +131,38 @@ template <class S> inline void distance_to_world(const Transform<S>& pose_a, Dis
 }
 }  // namespace detail
 
-/// A volume distance() can descend: a free distance_lower_bound(a, b, rel, cutoff) (every BV of the family has one).
-template <class BV>
-concept HasDistanceLowerBound = requires(const BV& x, const typename BV::Relative& rel, typename BV::Scalar s) {
-    { distance_lower_bound(x, x, rel, s) } -> std::convertible_to<typename BV::Scalar>;
-};
-
 /// Separation distance between two mesh models at the given world poses (model frame → world): the
 /// smallest distance between a triangle of A and a triangle of B, with a closest pair of points (world
 /// frame) and the two triangles. 0 with a witness point when the meshes intersect. `request` trades
-/// accuracy for speed (see DistanceRequest). BV: any of the family (Aabb, Obb, Rss, Kdop, BoundingSphere), or
-/// a volume of one's own with distance_lower_bound (Rss trees built with SplitStrategy::sah are the fastest, see
-/// docs/bvh.md; the boxes and k-DOPs next, the spheres' bound is the loosest).
-/// M is the meshes' scalar; with float BVs over double meshes the bounds are computed in float (see MeshModel).
-template <class BV, class M>
-[[nodiscard]] DistanceResult<M> distance(const MeshModel<BV, M>& a, const std::type_identity_t<Transform<M>>& pose_a,
-                                         const MeshModel<BV, M>& b, const std::type_identity_t<Transform<M>>& pose_b,
-                                         const DistanceRequest<M>& request = {}) {
-    static_assert(HasDistanceLowerBound<BV>,
-                  "distance(): the BV needs a free distance_lower_bound(a, b, rel, cutoff) (bv/bv_distance.hpp)");
-    using S = M;
+/// accuracy for speed (see DistanceRequest). Models: MeshModel<BV, M> with any BV of the family (Aabb, Obb,
+/// Rss, Kdop, BoundingSphere) or a volume of one's own with distance_lower_bound (Rss trees built with
+/// SplitStrategy::sah are the fastest, see docs/bvh.md; the boxes and k-DOPs next, the spheres' bound is the
+/// loosest), and RestrictedBoxtree<S> (boxes implied by one plane per node: bvh/boxtree_descent.hpp).
+/// The poses' scalar is the models' mesh scalar; with float BVs over double meshes the bounds are computed
+/// in float (see MeshModel).
+template <class A, class B>
+    requires DescentModels<A, B>
+[[nodiscard]] DistanceResult<typename A::Scalar> distance(const A& a, const std::type_identity_t<Transform<typename A::Scalar>>& pose_a,
+                                                          const B& b, const std::type_identity_t<Transform<typename A::Scalar>>& pose_b,
+                                                          const DistanceRequest<typename A::Scalar>& request = {}) {
+    using S = typename A::Scalar;
     DistanceResult<S> out;
     if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
         out.status = QueryStatus::invalid_pose;
         return out;
     }
-    if (a.bvh().empty() || b.bvh().empty()) return out;
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
-    const auto rel = BV::relative(b_to_a.template cast<typename BV::Scalar>());
-    // A → B, for bounds computed in B's frame (MovableDistanceBound volumes).
-    const auto inv = BV::relative(b_to_a.inverse().template cast<typename BV::Scalar>());
+    const auto pair = detail::descent_pair(a, b, b_to_a, true);
+    using Pair = std::remove_const_t<decltype(pair)>;
+    if (pair.a.empty() || pair.b.empty()) return out;
     const auto& ma = a.mesh();
     const auto& mb = b.mesh();
-    const auto& order_a = a.bvh().triangle_order();
-    const auto& order_b = b.bvh().triangle_order();
-    const auto& na = a.bvh().nodes();
-    const auto& nb = b.bvh().nodes();
     const S scale = S(1) / (S(1) + std::max(S(0), request.rel_err));
     const S abs_err = std::max(S(0), request.abs_err);
     // Pairs whose bound reaches this are pruned; +inf until a first triangle pair is measured.
     const auto threshold = [&]() noexcept { return (out.distance - abs_err) * scale; };
 
-    using Item = detail::OpenPair<S>;
+    using Item = detail::OpenPair<typename Pair::TreeA::Cursor, typename Pair::TreeB::Cursor, S>;
     // Best first: the open pair of smallest bound is expanded next, so only pairs whose bound is below the
     // answer are expanded (the pair holding the closest triangles is reached before any pair whose bound
     // exceeds their distance), and once the smallest open bound reaches the threshold everything left is
@@ -227,55 +174,29 @@ template <class BV, class M>
     static thread_local std::vector<Item> heap;
     heap.clear();
     ++out.stats.bv_tests;
-    Item it{0, 0, distance_lower_bound(na[0].bv, nb[0].bv, rel)};
+    Item it{pair.a.root(), pair.b.root(), S(0)};
+    it.bound = pair.root_bound(it.a, it.b);
     while (it.bound < threshold()) {  // `it` is the smallest open pair: when it fails, all do
-        const BvhNode<BV>& x = na[it.a];
-        const BvhNode<BV>& y = nb[it.b];
-        const bool xl = x.is_leaf(), yl = y.is_leaf();
+        const bool xl = pair.a.is_leaf(it.a), yl = pair.b.is_leaf(it.b);
         if (xl && yl) {
             // A positive bound proves the leaves' triangles disjoint: skip the exact intersection test, and
             // skip pairs that a projection gap shows to be no nearer than the threshold.
             const bool disjoint = it.bound > S(0);
-            for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
-                for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
-                    detail::distance_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, out, disjoint, threshold());
+            pair.a.for_each_triangle(it.a, [&](Index ta) {
+                return pair.b.for_each_triangle(it.b, [&](Index tb) {
+                    detail::distance_triangle_pair(ma, ta, mb, tb, b_to_a, out, disjoint, threshold());
+                    return true;
+                });
+            });
             if (heap.empty() || out.distance == S(0)) break;  // 0: intersecting, nothing can be nearer
             it = detail::heap_pop(heap);
             continue;
         }
-        // Split the larger volume (or the one that is not a leaf).
+        // Split the node the descent rule picks (bvh/traverse.hpp); a one-child node gives c1 a bound of +inf.
         Item c0, c1;
         const S th = threshold();
-        // Only an early-out hint to the scalar bounds, finite even before the first triangle pair: they stop
-        // once a pair is known to be pruned or kept (see rectangle_gap). The Rss pair bound ignores it.
-        using B = typename BV::Scalar;
-        const auto bv_th = static_cast<B>(std::min<S>(th, S(std::numeric_limits<B>::max())));
-        if (yl || (!xl && x.bv.size() >= y.bv.size())) {
-            if constexpr (detail::MovableDistanceBound<BV>) {
-                // y moved into A's frame once for both children of x.
-                const BV moved = transformed(y.bv, rel.R, rel.t);
-                B bound[2];
-                detail::children_lower_bounds(na[x.first].bv, na[x.first + 1].bv, moved, rel.slack, bv_th, bound);
-                c0 = {x.first, it.b, bound[0]};
-                c1 = {x.first + 1, it.b, bound[1]};
-            } else {
-                c0 = {x.first, it.b, distance_lower_bound(na[x.first].bv, y.bv, rel, bv_th)};
-                c1 = {x.first + 1, it.b, distance_lower_bound(na[x.first + 1].bv, y.bv, rel, bv_th)};
-            }
-        } else {
-            if constexpr (detail::MovableDistanceBound<BV>) {
-                // x moved into B's frame once for both children of y.
-                const BV moved = transformed(x.bv, inv.R, inv.t);
-                B bound[2];
-                detail::children_lower_bounds(nb[y.first].bv, nb[y.first + 1].bv, moved, inv.slack, bv_th, bound);
-                c0 = {it.a, y.first, bound[0]};
-                c1 = {it.a, y.first + 1, bound[1]};
-            } else {
-                c0 = {it.a, y.first, distance_lower_bound(x.bv, nb[y.first].bv, rel, bv_th)};
-                c1 = {it.a, y.first + 1, distance_lower_bound(x.bv, nb[y.first + 1].bv, rel, bv_th)};
-            }
-        }
-        out.stats.bv_tests += 2;
+        out.stats.bv_tests += detail::descends_a(pair, it.a, it.b, xl, yl) ? pair.template child_bounds<true>(it, th, c0, c1)
+                                                                           : pair.template child_bounds<false>(it, th, c0, c1);
         if (c1.bound < c0.bound) std::swap(c0, c1);
         if (c1.bound < th) detail::heap_push(heap, c1);
         if (!(c0.bound < th)) {

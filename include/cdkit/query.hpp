@@ -1,53 +1,27 @@
 #pragma once
-/// \file collide(): mesh–mesh collision on BVHs, and collide_brute_force(), the all-pairs reference.
+/// \file collide(): mesh–mesh collision on every tree of the family (MeshModel<BV, M> of any bounding volume,
+/// RestrictedBoxtree<S>), through the one simultaneous descent of bvh/traverse.hpp, and
+/// collide_brute_force(), the all-pairs reference.
 ///
 /// Both work in A's model frame: B's triangles are carried there by the relative transform
 /// pose_a⁻¹·pose_b, computed once per query, and no mesh is copied or re-transformed as a whole.
 /// Queries are const and thread-safe: any number of threads may query the same models at once.
 
+#include "cdkit/bvh/boxtree_descent.hpp"
+#include "cdkit/bvh/bvh_descent.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
-#include "cdkit/core/contact_mode.hpp"
 #include "cdkit/bvh/traverse.hpp"
+#include "cdkit/core/collision_result.hpp"
 #include "cdkit/narrowphase/triangle.hpp"
 
+#include <concepts>
 #include <limits>
 #include <type_traits>
 #include <vector>
 
 namespace cdkit {
 
-struct CollisionRequest {
-    ContactMode mode = ContactMode::first;
-    /// In ContactMode::all, stop after this many contacts (the result says it was truncated).
-    std::size_t max_contacts = std::numeric_limits<std::size_t>::max();
-};
-
-/// One intersecting triangle pair. Points are in the world frame.
-template <class S> struct Contact {
-    Index triangle_a = 0;      ///< index into model A's mesh.triangles
-    Index triangle_b = 0;
-    Vec3<S> point;             ///< a witness point on both triangles (the segment's midpoint)
-    Vec3<S> segment[2];        ///< the intersection segment (equal end points for a single touching point)
-    bool coplanar = false;     ///< the triangles are coplanar; the segment spans part of the overlap region
-};
-
-struct CollisionStats : TraversalStats {};
-
-template <class S> struct CollisionResult {
-    QueryStatus status = QueryStatus::ok;  ///< invalid_pose: a pose was not a rigid motion; nothing was tested
-    bool colliding = false;
-    bool truncated = false;  ///< ContactMode::all stopped at max_contacts
-    std::vector<Contact<S>> contacts;
-    CollisionStats stats;
-};
-
 namespace detail {
-/// B's vertex in A's frame. Brute force and the BVH query share this one function so that they see the
-/// same rounded points, and the BV fit's padding covers its rounding.
-template <class S> [[nodiscard]] inline Vec3<S> to_frame_a(const Transform<S>& b_to_a, const Vec3<S>& v) noexcept {
-    return b_to_a.R * v + b_to_a.t;
-}
-
 /// Tests triangle ta of A against tb of B (already in A's frame) and records a contact on a hit.
 template <class S>
 inline bool test_triangle_pair(const TriangleMesh<S>& ma, Index ta, const TriangleMesh<S>& mb, Index tb,
@@ -87,36 +61,47 @@ template <class S> [[nodiscard]] inline bool keep_going(const CollisionRequest& 
 }
 }  // namespace detail
 
+/// Two models collide() and distance() descend together: a mesh (`mesh()`) and a tree the simultaneous
+/// descent walks (bvh/traverse.hpp), of one mesh scalar: MeshModel<BV, M> (any BV of the family, float BVs
+/// over a double mesh included) and RestrictedBoxtree<S>, each against its own kind.
+template <class A, class B>
+concept DescentModels = std::same_as<typename A::Scalar, typename B::Scalar> &&
+                        requires(const A& a, const B& b, const Transform<typename A::Scalar>& b_to_a) {
+    { a.mesh() } -> std::same_as<const TriangleMesh<typename A::Scalar>&>;
+    { b.mesh() } -> std::same_as<const TriangleMesh<typename A::Scalar>&>;
+    { detail::descent_pair(a, b, b_to_a) } -> DescentPair;
+};
+
 /// Collision between two mesh models at the given world poses (model frame → world). Reports whether any
 /// triangle of A intersects any triangle of B (touching counts), with one witness (ContactMode::first) or
 /// all intersecting pairs (ContactMode::all, in traversal order). Contacts are in the world frame.
 /// Poses that are not rigid motions (see pose_is_usable) give status invalid_pose and no answer.
-/// M is the meshes' scalar; with float BVs over double meshes the BV tests run in float (see MeshModel).
-template <class BV, class M>
-[[nodiscard]] CollisionResult<M> collide(const MeshModel<BV, M>& a, const std::type_identity_t<Transform<M>>& pose_a,
-                                         const MeshModel<BV, M>& b, const std::type_identity_t<Transform<M>>& pose_b,
-                                         const CollisionRequest& request = {}) {
-    using S = M;
+/// The poses' scalar is the models' mesh scalar (never deduced from the poses); with float BVs over double
+/// meshes the BV tests run in float (see MeshModel). On restricted boxtrees `stats.bv_tests` counts descent
+/// steps (each a re-aligned face test), the root's 15-axis box test and the leaf pairs' triangle box tests.
+template <class A, class B>
+    requires DescentModels<A, B>
+[[nodiscard]] CollisionResult<typename A::Scalar> collide(const A& a, const std::type_identity_t<Transform<typename A::Scalar>>& pose_a,
+                                                          const B& b, const std::type_identity_t<Transform<typename A::Scalar>>& pose_b,
+                                                          const CollisionRequest& request = {}) {
+    using S = typename A::Scalar;
     CollisionResult<S> out;
     if (!pose_is_usable(pose_a) || !pose_is_usable(pose_b)) {
         out.status = QueryStatus::invalid_pose;
         return out;
     }
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
-    const auto rel = BV::relative(b_to_a.template cast<typename BV::Scalar>());
+    const auto pair = detail::descent_pair(a, b, b_to_a);
     const auto& ma = a.mesh();
     const auto& mb = b.mesh();
-    const auto& order_a = a.bvh().triangle_order();
-    const auto& order_b = b.bvh().triangle_order();
     traverse_overlapping_leaves(
-        a.bvh(), b.bvh(), rel,
-        [&](const BvhNode<BV>& x, const BvhNode<BV>& y) {
-            for (std::uint32_t i = x.first; i < x.first + x.count; ++i)
-                for (std::uint32_t j = y.first; j < y.first + y.count; ++j)
-                    if (detail::test_triangle_pair(ma, order_a[i], mb, order_b[j], b_to_a, pose_a, out) &&
-                        !detail::keep_going(request, out))
-                        return false;
-            return true;
+        pair,
+        [&](const auto& x, const auto& y) {
+            return pair.a.for_each_triangle(x, [&](Index ta) {
+                return pair.b.for_each_triangle(y, [&](Index tb) {
+                    return !(detail::test_triangle_pair(ma, ta, mb, tb, b_to_a, pose_a, out) && !detail::keep_going(request, out));
+                });
+            });
         },
         out.stats);
     return out;

@@ -7,8 +7,8 @@
 
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/boxtree.hpp"
-#include "cdkit/boxtree_collide.hpp"
 #include "cdkit/io/load_mesh.hpp"
+#include "cdkit/query.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -5,7 +5,8 @@
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
-#include "cdkit/boxtree_distance.hpp"
+#include "cdkit/bvh/boxtree.hpp"
+#include "cdkit/distance.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -13,7 +13,8 @@
 /// A node whose triangles' box differs from its parent's on several faces gets (optionally) a chain of
 /// one-child nodes, each restricting one more face, before the node that splits (BoxtreeOptions).
 /// The node format is in bvh/boxtree_node.hpp, the build in bvh/detail/boxtree_builder.hpp, the collision
-/// query in boxtree_collide.hpp and the distance query in boxtree_distance.hpp.
+/// descent (node concept, overlap and distance tests) in bvh/boxtree_descent.hpp: collide() and distance()
+/// (query.hpp, distance.hpp) descend it as they descend every other tree.
 
 #include "cdkit/bv/fit.hpp"
 #include "cdkit/bvh/boxtree_node.hpp"
