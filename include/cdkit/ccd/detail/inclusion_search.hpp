@@ -10,13 +10,13 @@
 /// axis-aligned hull of the corners, we also try the face (edge-pair) normal and the direction of the corners'
 /// centroid: a vertex sliding over a face, or an edge over a parallel edge, at a small gap is excluded at once
 /// instead of by splitting down to the gap in every dimension, which is what makes the paper's tail long.
-/// Before those, a box's time interval alone is tested (for contact at distance 0): F = 0 needs B, E1, E2
+/// Besides those planes, a box's time interval alone is tested (for contact at distance 0): F = 0 needs B, E1, E2
 /// coplanar, so the cubic c(t) = det(B(t), E1(t), E2(t)) (Provot 1997) must vanish; its Bernstein coefficients on
 /// [t_lo, t_hi] all of one sign beyond their error bound exclude every (u, v) at once — the sign test of Tang,
 /// Tong, Wang, Manocha, "Fast and Exact Continuous Collision Detection with Bernstein Sign Classification", ACM
 /// TOG 33(6), 2014. The control polygon approaches c quadratically in the width, so boxes before the first
-/// contact go at far coarser t than the fixed-normal test allows (which splits them down to the distance from
-/// that contact), which made the slow tail of the handcrafted edge–edge set (docs/ccd.md).
+/// contact go at far coarser t than under the fixed-normal plane, which needs them split down to about their
+/// distance from that contact: those splits were most of the slow tail of the handcrafted edge–edge set.
 /// Boxes are searched earliest-t first (a heap on t), so the first box accepted bounds the first contact from
 /// below; a work cap bounds the worst case and then answers conservatively (contact).
 
