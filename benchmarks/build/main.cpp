@@ -9,6 +9,7 @@
 ///   --quick: the bunny and dragon_48k only, fewer rows.
 
 #include "../cli_args.hpp"
+#include "../provenance.hpp"
 #include "../thread_cpu_clock.hpp"
 #include "peer_fcl.hpp"
 
@@ -330,7 +331,12 @@ int main(int argc, char** argv) {
                 "median of reps, wall clock (TBB-parallel); 1-thread ms, refit, query and FCL: thread CPU time; tree/mesh: tree bytes over the mesh's vertex and index bytes in the mesh's scalar; "
                 "degradation: MeshModel::degradation() after the refit (– for boxtrees: implied boxes have no volume measure here); boxtree: RestrictedBoxtree, its own build; query: first contact on %d fixed near poses; "
                 "FCL bytes: its BV nodes only)\n", o.poses);
-    std::ofstream csv(o.csv);
+    // Provenance first (command, machine, compiler, commit, date), then the rows.
+    if (std::FILE* head = std::fopen(o.csv.c_str(), "w")) {
+        cdbench::write_provenance(head, argc, argv);
+        std::fclose(head);
+    }
+    std::ofstream csv(o.csv, std::ios::app);
     csv << "mesh,triangles,library,method,split,leaf,build_ms,build_1thread_ms,tree_bytes,mesh_bytes,refit_ms,degradation,"
            "query_median_us,colliding\n";
     for (const Row& r : rows)
