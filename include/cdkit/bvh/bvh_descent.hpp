@@ -5,8 +5,10 @@
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bv/detail/distance_rss_pair.hpp"
+#include "cdkit/bv/detail/obb_sibling_test.hpp"
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/core/inlining.hpp"
 
 #include <algorithm>
 #include <concepts>
@@ -102,8 +104,22 @@ template <class BV> struct BvhDescentPair {
     /// calls it from four places, and GCC then stopped inlining Obb's overlap() there and called it and
     /// boxes_disjoint() apart (13 % slower Obb queries on the bunny). Small tests (spheres, Aabb) are still
     /// inlined into the traversal whole.
-    [[nodiscard, gnu::flatten]] bool test(std::uint32_t x, std::uint32_t y) const noexcept {
+    [[nodiscard]] CDKIT_FLATTEN bool test(std::uint32_t x, std::uint32_t y) const noexcept {
         return overlap(a.nodes[x].bv, b.nodes[y].bv, rel);
+    }
+
+    /// Obb trees: both children of the node the descent splits (x's when DescendA, else y's) against the
+    /// other node, in one two-lane test (bv/detail/obb_sibling_test.hpp), with the order to enter them.
+    template <bool DescendA>
+        requires std::same_as<BV, Obb<B>>
+    [[nodiscard]] SiblingOverlap siblings_overlap(std::uint32_t x, std::uint32_t y) const noexcept {
+        if constexpr (DescendA) {
+            const std::uint32_t c = a.nodes[x].first;
+            return children_overlap_box(a.nodes[c].bv, a.nodes[c + 1].bv, b.nodes[y].bv, rel);
+        } else {
+            const std::uint32_t c = b.nodes[y].first;
+            return box_overlap_children(a.nodes[x].bv, b.nodes[c].bv, b.nodes[c + 1].bv, rel);
+        }
     }
 
     /// Lower bound on the distance of the two roots.

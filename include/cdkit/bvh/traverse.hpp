@@ -13,6 +13,7 @@
 
 #include <array>
 #include <concepts>
+#include <utility>
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +48,17 @@ concept DescentPair = DescentTree<typename P::TreeA> && DescentTree<typename P::
     { p.template children_overlap<false>(x, y) } -> std::same_as<bool>;
     { p.leaves_overlap(x, y) } -> std::same_as<bool>;
     { P::tests_leaf_pairs } -> std::convertible_to<bool>;
+};
+
+/// A pair that tests both children of a split node at once and ranks them (Obb trees: bvh/bvh_descent.hpp):
+/// `siblings_overlap<DescendA>(x, y)` for the children of x (DescendA) or of y against the other node,
+/// returning `overlap[2]` and `second_first` (enter the second child first). Its trees' inner nodes have
+/// two children.
+template <class P>
+concept SiblingDescentPair =
+    DescentPair<P> && requires(const P& p, const typename P::TreeA::Cursor& x, const typename P::TreeB::Cursor& y) {
+    { p.template siblings_overlap<true>(x, y).overlap[0] } -> std::convertible_to<bool>;
+    { p.template siblings_overlap<false>(x, y).second_first } -> std::convertible_to<bool>;
 };
 
 namespace detail {
@@ -122,7 +134,16 @@ bool traverse_overlapping_leaves(const P& pair, Visitor&& visit, TraversalStats&
             Pair q1 = p;
             bool ok0, ok1 = false;
             std::uint32_t n;
-            if (detail::descends_a(pair, p.a, p.b, xl, yl)) {
+            if constexpr (SiblingDescentPair<P>) {
+                // Both children in one test; the nearer overlapping child first (a first contact sooner).
+                const bool da = detail::descends_a(pair, p.a, p.b, xl, yl);
+                const auto s = da ? pair.template siblings_overlap<true>(p.a, p.b)
+                                  : pair.template siblings_overlap<false>(p.a, p.b);
+                if (da) ta.descend(q1.a, 1), ta.descend(p.a, 0);
+                else tb.descend(q1.b, 1), tb.descend(p.b, 0);
+                ok0 = s.overlap[0], ok1 = s.overlap[1], n = 2;
+                if (s.second_first) std::swap(p, q1);  // both overlap
+            } else if (detail::descends_a(pair, p.a, p.b, xl, yl)) {
                 n = ta.child_count(p.a);
                 if (n == 2) ta.descend(q1.a, 1), ok1 = pair.template children_overlap<true>(q1.a, q1.b);
                 ta.descend(p.a, 0);

@@ -10,40 +10,14 @@
 /// also expose `margin()` and `core_support(d)`; GJK then works on the cores and subtracts the margins,
 /// which makes spheres and capsules exact instead of asymptotically converging.
 
-#include <cdkit/core/math.hpp>
+#include "cdkit/core/inlining.hpp"
+#include "cdkit/core/math.hpp"
 
 #include <cmath>
 #include <concepts>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
-
-/// Forces inlining of the few-flop helpers on GJK's per-iteration path (support maps, rotations): at -O2
-/// GCC kept several of them out of line, and the call overhead was a measurable share of a query.
-#if defined(__GNUC__) || defined(__clang__)
-#define CDKIT_ALWAYS_INLINE __attribute__((always_inline)) inline
-#else
-#define CDKIT_ALWAYS_INLINE inline
-#endif
-/// The same for a lambda (placed after its parameter list): GCC kept GJK loop's exit lambda out of line, and
-/// the closure it then builds (a pointer per captured local) cost every query ~40 instructions.
-#if defined(__GNUC__) || defined(__clang__)
-#define CDKIT_LAMBDA_INLINE __attribute__((always_inline))
-#else
-#define CDKIT_LAMBDA_INLINE
-#endif
-/// Keeps a rare path (GJK's certification of exits without a plane) out of line, off the hot loop's code.
-#if defined(__GNUC__) || defined(__clang__)
-#define CDKIT_COLD_PATH __attribute__((noinline, cold))
-#else
-#define CDKIT_COLD_PATH
-#endif
-/// Keeps a path that is not rare but weighs on the code around it (a hull's point location) out of line.
-#if defined(__GNUC__) || defined(__clang__)
-#define CDKIT_NOINLINE __attribute__((noinline))
-#else
-#define CDKIT_NOINLINE
-#endif
 
 namespace cdkit {
 
