@@ -5,7 +5,8 @@
 /// (same normalisation, same seed: the same poses). Per pose, cdkit then FCL: one cold call (the pose's first,
 /// after the other library's queries), one untimed warm-up, then the fastest of 3 batches of ≥ 50 µs and ≥ 8
 /// calls, with steady_clock. Prints per d (P1) and per δ (P2) the median µs and FCL/cdkit; exits 1 if the two
-/// ever disagree on a boolean. Usage: plain_bench [--steps N] [--rotations R] [--seed S] [--csv FILE] MESH...
+/// ever disagree on a boolean. Usage: plain_bench [--steps N] [--rotations R] [--seed S] [--csv FILE]
+/// [--summary FILE] [--commit REV] MESH...
 #include <cdkit/cdkit.hpp>
 
 #include <sched.h>  // sched_getcpu: this VM's two vCPUs differ (docs/benchmarks.md)
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -137,10 +139,16 @@ std::vector<Class> p2_classes(int rotations, std::uint64_t seed, double r, Colli
 
 // ---- one mesh -------------------------------------------------------------------------------------
 
-struct Options { int steps = 36, rotations = 100; std::uint64_t seed = 1; std::string csv; std::vector<std::string> meshes; };
+struct Options {
+    int steps = 36, rotations = 100;
+    std::uint64_t seed = 1;
+    std::string csv, summary, commit = "?";
+    std::vector<std::string> meshes;
+};
 
-/// Runs P1 and P2 on one mesh; prints the tables, appends CSV rows; returns the boolean disagreements.
-std::size_t run_mesh(const std::string& path, const Options& opt, std::FILE* csv) {
+/// Runs P1 and P2 on one mesh; prints the tables, appends CSV rows (per d or δ to `csv`, per protocol to
+/// `summary`: the smallest, geometric mean and largest ratio); returns the boolean disagreements.
+std::size_t run_mesh(const std::string& path, const Options& opt, std::FILE* csv, std::FILE* summary) {
     cdkit::TriangleMesh<double> mesh = cdkit::load_mesh(path);
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;  // into [-1, 1]³ about the
     for (const Vec3& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);  // bounding-box centre
@@ -178,6 +186,7 @@ std::size_t run_mesh(const std::string& path, const Options& opt, std::FILE* csv
         std::printf("%8s %6s | %9s %9s %6s | %9s %9s %6s | %s\n", p1 ? "d" : "delta", "coll", "cdkit", "fcl", "ratio",
                     "cdkit 1st", "fcl 1st", "ratio", "disagree");
         std::vector<double> ratios;
+        std::size_t protocol_disagreements = 0;
         for (const Class& c : classes) {
             std::vector<double> cw, fw, cf, ff;
             std::size_t hits = 0, dis = 0, unstable = 0;
@@ -206,6 +215,7 @@ std::size_t run_mesh(const std::string& path, const Options& opt, std::FILE* csv
             }
             if (unstable) std::printf("WARNING: %zu batches answered unlike their first call\n", unstable);
             disagreements += dis + unstable;
+            protocol_disagreements += dis + unstable;
             const double mc = median(cw), mf = median(fw), mc1 = median(cf), mf1 = median(ff);
             const double coll = double(hits) / double(c.poses.size());
             ratios.push_back(mf / mc);
@@ -218,9 +228,13 @@ std::size_t run_mesh(const std::string& path, const Options& opt, std::FILE* csv
         }
         double log_sum = 0;
         for (double r : ratios) log_sum += std::log(r);
+        const double lo = *std::min_element(ratios.begin(), ratios.end()), geo = std::exp(log_sum / double(ratios.size())),
+                     hi = *std::max_element(ratios.begin(), ratios.end());
         std::printf("%s %s: FCL/cdkit (warm) min %.2f, geomean %.2f, max %.2f (now on CPU %d)\n", name.c_str(),
-                    protocol, *std::min_element(ratios.begin(), ratios.end()), std::exp(log_sum / double(ratios.size())),
-                    *std::max_element(ratios.begin(), ratios.end()), sched_getcpu());
+                    protocol, lo, geo, hi, sched_getcpu());
+        if (summary)
+            std::fprintf(summary, "%s,%zu,%s,%zu,%.4f,%.4f,%.4f,%zu\n", name.c_str(), mesh.triangles.size(), protocol,
+                         classes.size(), lo, geo, hi, protocol_disagreements);
     }
     return disagreements;
 }
@@ -236,9 +250,12 @@ int main(int argc, char** argv) {
         else if (a == "--rotations" && has_value) opt.rotations = std::max(1, std::atoi(argv[++i]));
         else if (a == "--seed" && has_value) opt.seed = std::strtoull(argv[++i], nullptr, 10);
         else if (a == "--csv" && has_value) opt.csv = argv[++i];
+        else if (a == "--summary" && has_value) opt.summary = argv[++i];
+        else if (a == "--commit" && has_value) opt.commit = argv[++i];
         else if (!a.empty() && a[0] != '-') opt.meshes.push_back(a);
         else {
-            std::fprintf(stderr, "usage: plain_bench [--steps N] [--rotations R] [--seed S] [--csv FILE] MESH...\n");
+            std::fprintf(stderr, "usage: plain_bench [--steps N] [--rotations R] [--seed S] [--csv FILE] "
+                                 "[--summary FILE] [--commit REV] MESH...\n");
             return 2;
         }
     }
@@ -247,13 +264,22 @@ int main(int argc, char** argv) {
         return 2;
     }
     std::FILE* csv = opt.csv.empty() ? nullptr : std::fopen(opt.csv.c_str(), "w");
-    if (csv) {
-        // Provenance as comment lines (scripts/render-results prints them under the tables it renders).
-        std::string command;
-        for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
-        std::fprintf(csv, "# command: %s\n# machine: CPU %d of %u\n# fcl: %s\n", command.c_str(), sched_getcpu(),
-                     std::thread::hardware_concurrency(), FCL_VERSION);
-    }
+    std::FILE* summary = opt.summary.empty() ? nullptr : std::fopen(opt.summary.c_str(), "w");
+    // Provenance as comment lines (scripts/render-results prints them under the tables it renders).
+    std::string command;
+    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+    // `--commit`: the installed package's source revision (scripts/bench passes it; a program that links an
+    // installed package cannot ask git).
+    char date[32];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    for (std::FILE* f : {csv, summary})
+        if (f)
+            std::fprintf(f, "# command: %s\n# machine: CPU %d of %u\n# compiler: %s\n# fcl: %s\n# commit: %s\n# date: %s\n",
+                         command.c_str(), sched_getcpu(), std::thread::hardware_concurrency(), __VERSION__, FCL_VERSION,
+                         opt.commit.c_str(), date);
+    if (summary)
+        std::fprintf(summary, "mesh,triangles,protocol,classes,min_ratio,geomean_ratio,max_ratio,disagreements\n");
     if (csv)
         std::fprintf(csv, "mesh,triangles,protocol,distance,poses,frac_colliding,cdkit_median_us,fcl_median_us,"
                           "ratio,cdkit_first_call_median_us,fcl_first_call_median_us,first_call_ratio,disagreements\n");
@@ -262,12 +288,13 @@ int main(int argc, char** argv) {
                 FCL_VERSION, opt.steps, opt.rotations, static_cast<unsigned long long>(opt.seed));
     std::size_t disagreements = 0;
     try {
-        for (const std::string& m : opt.meshes) disagreements += run_mesh(m, opt, csv);
+        for (const std::string& m : opt.meshes) disagreements += run_mesh(m, opt, csv, summary);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "plain_bench: %s\n", e.what());
         return 2;
     }
-    if (csv) std::fclose(csv);
+    for (std::FILE* f : {csv, summary})
+        if (f) std::fclose(f);
     std::printf("\nboolean disagreements between cdkit and FCL: %zu\n", disagreements);
     return disagreements == 0 ? 0 : 1;
 }
