@@ -2,7 +2,8 @@
 /// \file Contact manifolds of convex pairs: up to four contact points sharing one normal, so that a box resting on
 /// a box is held at its corners instead of rocking on one point.
 ///
-/// The method (the one of box2d and Jolt, in 3-D): GJK decides the pair (warm-started from the caller's cache),
+/// The method (the one of box2d and Jolt, in 3-D): GJK decides the pair (warm-started from the caller's cache; with a
+/// margin the same search also measures a pair apart by at most the margin, gjk_distance_within),
 /// EPA, started from GJK's final simplex, gives the penetration normal n (van den Bergen, GDC 2001); then each shape's supporting feature along the
 /// normal (A's along n, B's along −n: face, edge or vertex, feature.hpp) is found, the better aligned face becomes
 /// the reference, and the other feature is clipped to the prism over it (detail/clip.hpp, Sutherland–Hodgman). Every
@@ -104,7 +105,12 @@ template <SupportMapped A, SupportMapped B>
         }
     }
     GjkCache<S>* gjk_cache = cache ? &cache->gjk : nullptr;
-    const GjkResult<S> g = gjk_intersect(a, pose_a, b, pose_b, gjk_cache);
+    // With a margin one search says both whether the pair collides and, when it is apart by at most the margin, how
+    // far (gjk_distance_within: the boolean's plane exit beyond the margin, else on to the distance from the same
+    // simplex); a boolean followed by a distance query paid for GJK twice on those pairs.
+    const bool speculative = request.margin > 0;
+    const GjkResult<S> g = speculative ? gjk_distance_within(a, pose_a, b, pose_b, S(request.margin), gjk_cache)
+                                       : gjk_intersect(a, pose_a, b, pose_b, gjk_cache);
     m.stats.gjk_iterations = g.iterations;
     ManifoldPoint<S> deepest;
     Vec3<S> n;
@@ -117,21 +123,13 @@ template <SupportMapped A, SupportMapped B>
         n = p.normal;
         deepest = {p.point_a, p.point_b, p.status == GjkStatus::intersecting ? p.depth : S(0), 0};
     } else {
-        m.distance = g.distance;
-        if (!(request.margin > 0) || g.distance > S(request.margin)) {
+        m.distance = g.distance;  // beyond the margin: a lower bound
+        if (!speculative || g.distance > S(request.margin)) {
             if (cache) cache->count = 0;
             return m;
         }
-        const GjkResult<S> d = gjk_distance(a, pose_a, b, pose_b, gjk_cache);
-        m.stats.gjk_iterations += d.iterations;
-        m.distance = d.distance;
-        if (d.distance > S(request.margin)) {
-            if (cache) cache->count = 0;
-            return m;
-        }
-        m.colliding = d.colliding;
-        n = d.normal;
-        deepest = {d.point_a, d.point_b, -d.distance, 0};
+        n = g.normal;
+        deepest = {g.point_a, g.point_b, -g.distance, 0};
     }
     if (!n.allFinite() || !(n.squaredNorm() > S(0.5))) {  // touching at a point EPA gave no direction for
         n = detail::safe_normalized(Vec3<S>(pose_b * Vec3<S>(b.center()) - pose_a * Vec3<S>(a.center())));

@@ -55,8 +55,8 @@ template <class S = double> struct ManifoldCache {
 
 /// Counters of one manifold query.
 struct ManifoldStats {
-    /// of the (warm-started) boolean test, the distance query within a margin and EPA's own GJK run (where EPA
-    /// could not start from the boolean's final simplex)
+    /// of the (warm-started) boolean test — with a margin, the one search that also measures a pair within it
+    /// (gjk_distance_within) — and EPA's own GJK run (where EPA could not start from that search's final simplex)
     int gjk_iterations = 0;
     int epa_iterations = 0;  ///< of the penetration query
     int clipped_points = 0;  ///< points after clipping, before the reduction to four

@@ -214,10 +214,11 @@ template <SupportMapped C, class S>
         }
         const GjkResult<S> g = gjk_distance(tri, Transform<S>{}, shape, b.pose);
         if (g.status == GjkStatus::touching || g.status == GjkStatus::intersecting) {
-            // Touching: GJK's closest points; overlapping: EPA's deepest point of the triangle (inside the shape).
+            // Touching: GJK's closest points; overlapping: EPA's deepest point of the triangle (inside the shape),
+            // EPA started from this GJK run's tetrahedron where it ended on one (not a GJK run of its own).
             const Vec3<S> m = g.status == GjkStatus::touching
                                   ? Vec3<S>((g.point_a + g.point_b) * S(0.5))
-                                  : Vec3<S>(penetration(tri, Transform<S>{}, shape, b.pose).point_a);
+                                  : Vec3<S>(penetration(tri, Transform<S>{}, shape, b.pose, g).point_a);
             return {S(0), m, m};
         }
         return {g.distance, g.point_a, g.point_b};

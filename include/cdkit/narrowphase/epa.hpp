@@ -501,10 +501,10 @@ template <SupportMapped A, SupportMapped B>
 
 }  // namespace detail
 
-/// Penetration query after a GJK query of the same pair at the same poses (`gjk`, from `gjk_intersect` or
-/// `gjk_distance`, cold or warm): where GJK proved the overlap with a tetrahedron of A − B around the origin
-/// (`detail::epa_starts_from`), EPA starts from that final simplex (the one GjkResult keeps for it) and no GJK runs
-/// again (`gjk_iterations` 0); otherwise the same as `penetration` without it. A caller that decides the pair with
+/// Penetration query after a GJK query of the same pair at the same poses (`gjk`, from `gjk_intersect`,
+/// `gjk_distance` or `gjk_distance_within`, cold or warm): where GJK proved the overlap with a tetrahedron of
+/// A − B around the origin (`detail::epa_starts_from`), EPA starts from that final simplex (the one GjkResult
+/// keeps for it) and no GJK runs again (`gjk_iterations` 0); otherwise the same as `penetration` without it. A caller that decides the pair with
 /// GJK first (contact_manifold, the World's contacts) so pays for GJK once. The answer is EPA's from another start
 /// than `penetration`'s own GJK would give: the same depth within `rel_tolerance`, not the same bits.
 /// Const, noexcept, thread-safe, never NaN.

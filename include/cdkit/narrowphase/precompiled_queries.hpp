@@ -37,7 +37,7 @@
 #define CDKIT_GJK_QUERY_INSTANCE(prefix, A, B)                                                                 \
     prefix template GjkResult<double> detail::gjk_query<A, B>(                                               \
         const A&, const ::cdkit::Transform<double>&, const B&, const ::cdkit::Transform<double>&,             \
-        ::cdkit::GjkCache<double>*, const ::cdkit::GjkSettings<double>&, bool, bool) noexcept;
+        ::cdkit::GjkCache<double>*, const ::cdkit::GjkSettings<double>&, bool, bool, double) noexcept;
 
 /// The same for EPA's queries (from scratch and from GJK's simplex; the long-double retry `refine_penetration` is
 /// instantiated with them).

@@ -1,7 +1,7 @@
 #pragma once
-/// \file GJK's queries: `gjk_distance` and `gjk_intersect` (the algorithm and its papers: narrowphase/gjk.hpp),
-/// dispatching to the cold boolean (gjk/detail/cold_search.hpp) or the loop (gjk/detail/loop.hpp), with the
-/// long-double refinement of near-contact distances (gjk/detail/widening.hpp).
+/// \file GJK's queries: `gjk_distance`, `gjk_intersect` and `gjk_distance_within` (the algorithm and its papers:
+/// narrowphase/gjk.hpp), dispatching to the cold boolean (gjk/detail/cold_search.hpp) or the loop
+/// (gjk/detail/loop.hpp), with the long-double refinement of near-contact distances (gjk/detail/widening.hpp).
 
 #include <cdkit/narrowphase/gjk/detail/cold_search.hpp>
 #include <cdkit/narrowphase/gjk/detail/widening.hpp>
@@ -23,7 +23,9 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
                                         const Transform<typename A::Scalar>& pose_b,
                                         GjkCache<typename A::Scalar>* cache,
                                         const GjkSettings<typename A::Scalar>& settings, bool boolean,
-                                        bool retry_cached_direction = true) noexcept;
+                                        bool retry_cached_direction = true,
+                                        typename A::Scalar within =
+                                            std::numeric_limits<typename A::Scalar>::infinity()) noexcept;
 
 /// The near-contact refinement of a separated double distance query: GJK again in long double on the same
 /// shapes (`widened_shape`), in world axes (both shapes placed by their poses: the double loop's frame of A
@@ -80,12 +82,14 @@ CDKIT_COLD_PATH void refine_near_contact(const A& a, const Transform<typename A:
     }
 }
 
+/// The queries' one dispatcher: `boolean` (gjk_intersect), else a distance (gjk_distance), bounded when `within` is
+/// finite (gjk_distance_within: the distance loop that stops at a plane proving the distance exceeds `within`, ≥ 0).
 template <SupportMapped A, SupportMapped B>
 GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                                         const Transform<typename A::Scalar>& pose_b,
                                         GjkCache<typename A::Scalar>* cache,
                                         const GjkSettings<typename A::Scalar>& settings,
-                                        bool boolean, bool retry_cached_direction) noexcept {
+                                        bool boolean, bool retry_cached_direction, typename A::Scalar within) noexcept {
     using S = typename A::Scalar;
     GjkResult<S> r;
     if (boolean && !cache) {
@@ -93,9 +97,26 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
         r.colliding = is_colliding(r.status);
         return r;
     }
-    if (boolean && retry_cached_direction && cache->size > 0) {
-        if (warm_direction_separates(a, pose_a, b, pose_b, settings, *cache, r)) return r;  // separated
-        // Tried, in world axes: the loop starts from the rebuilt cache (its first slot now holds that pair).
+    const bool bounded = !boolean && within < std::numeric_limits<S>::infinity();
+    if constexpr (HasBoundingBalls<A> && HasBoundingBalls<B>) {
+        // A cold bounded query: the boolean's bounding-ball pre-test, its "apart" beyond the bound.
+        if (bounded && !cache && settings.bounding_ball_test) {
+            const Vec3<S> ca = world_center(a, pose_a), cb = world_center(b, pose_b);
+            const Vec3<S> delta = minus(ca, cb);
+            const S dd = norm2(delta);
+            if (dd <= std::numeric_limits<S>::max() &&
+                bounding_ball_decides(a, pose_a, b, pose_b, ca, cb, delta, dd,
+                                      settings.touch_factor * std::numeric_limits<S>::epsilon(), r, within)) {
+                r.colliding = is_colliding(r.status);
+                return r;
+            }
+        }
+    }
+    if ((boolean || bounded) && retry_cached_direction && cache && cache->size > 0) {
+        if (bounded ? warm_direction_separates(a, pose_a, b, pose_b, settings, *cache, r, within, false)
+                    : warm_direction_separates(a, pose_a, b, pose_b, settings, *cache, r))
+            return r;  // separated (beyond the bound)
+        // Tried, in world axes: the loop starts from the rebuilt cache (a boolean's first slot now holds that pair).
     }
     const Transform<S> rel = relative_pose(pose_a, pose_b);
     const S margin = margin_of(a) + margin_of(b);
@@ -104,17 +125,21 @@ GjkResult<typename A::Scalar> gjk_query(const A& a, const Transform<typename A::
     GjkVertex<S> sep;
     sep.w.setConstant(std::numeric_limits<S>::quiet_NaN());
     bool tolerance_met = true;
-    GjkStatus st = boolean ? gjk_loop<true, true>(a, b, rel, settings, cache, margin, r.simplex, v, size,
-                                                  r.iterations, lower, cache ? settings.warm_exit_quality : S(0),
-                                                  &sep, nullptr)
-                           : gjk_loop<true, false>(a, b, rel, settings, cache, margin, r.simplex, v, size,
-                                                   r.iterations, lower, S(0), &sep, &tolerance_met);
-    gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean);
+    const S quality = cache ? settings.warm_exit_quality : S(0);
+    GjkStatus st = boolean   ? gjk_loop<true, true>(a, b, rel, settings, cache, margin, r.simplex, v, size,
+                                                    r.iterations, lower, quality, &sep, nullptr)
+                   : bounded ? gjk_loop<true, false, true>(a, b, rel, settings, cache, margin, r.simplex, v, size,
+                                                           r.iterations, lower, quality, &sep, &tolerance_met, within)
+                             : gjk_loop<true, false>(a, b, rel, settings, cache, margin, r.simplex, v, size,
+                                                     r.iterations, lower, S(0), &sep, &tolerance_met);
+    const bool by_plane = gjk_finish(a, pose_a, b, settings, r, st, v, size, lower, sep, boolean || bounded,
+                                     bounded ? within : S(0));
     if (r.status == GjkStatus::touching) prove_touching_overlap(a, b, rel, r);
     if constexpr (refines_near_contact<S>) {
-        if (!boolean && near_contact_needs_refinement<A, B>(
-                            settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2]),
-                            tolerance_met))
+        // Not an answer by a plane: its distance is a bound beyond `within`, not a distance to refine.
+        if (!boolean && !by_plane &&
+            near_contact_needs_refinement<A, B>(
+                settings, r, size + std::abs(rel.t[0]) + std::abs(rel.t[1]) + std::abs(rel.t[2]), tolerance_met))
             refine_near_contact(a, pose_a, b, pose_b, settings, r);
     }
     r.colliding = is_colliding(r.status);
@@ -137,6 +162,29 @@ template <SupportMapped A, SupportMapped B>
     GjkCache<typename A::Scalar>* cache = nullptr,
     const GjkSettings<typename A::Scalar>& settings = {}) noexcept {
     return detail::gjk_query(a, pose_a, b, pose_b, cache, settings, false);
+}
+
+/// Distance query that only needs the distance up to `max_distance` (speculative contacts within a margin): one
+/// GJK search (Gilbert, Johnson, Keerthi 1988) that stops as soon as a support plane proves the distance exceeds
+/// `max_distance` (van den Bergen 1999's lower bound v·w/|v|, the boolean's early exit with the bound added), and
+/// otherwise goes on, from the same simplex, to the distance. Three outcomes: colliding (`touching` /
+/// `intersecting`, as gjk_distance answers them; an overlap proven by the loop leaves its final tetrahedron in
+/// `simplex` for EPA); `separated` with `distance` ≤ max_distance (or within GJK's tolerance of it): distance,
+/// closest points and normal as gjk_distance gives them; `separated` with `distance` > max_distance: a lower bound
+/// with a separating plane, as gjk_intersect's early exit reports it (`normal`, the plane's supporting points).
+/// Replaces gjk_intersect followed by gjk_distance for pairs within the bound, which paid for two searches.
+/// `max_distance` < 0 or NaN counts as 0; +∞ gives gjk_distance. Without a cache the bounding balls are tried first
+/// (`GjkSettings::bounding_ball_test`, their "apart" beyond the bound); with one, its cached direction's plane.
+/// Const, noexcept, thread-safe; `cache` as for gjk_distance.
+template <SupportMapped A, SupportMapped B>
+    requires std::same_as<typename A::Scalar, typename B::Scalar>
+[[nodiscard]] inline GjkResult<typename A::Scalar> gjk_distance_within(
+    const A& a, const Transform<typename A::Scalar>& pose_a, const B& b, const Transform<typename A::Scalar>& pose_b,
+    typename A::Scalar max_distance, GjkCache<typename A::Scalar>* cache = nullptr,
+    const GjkSettings<typename A::Scalar>& settings = {}) noexcept {
+    using S = typename A::Scalar;
+    return detail::gjk_query(a, pose_a, b, pose_b, cache, settings, false, true,
+                             max_distance > S(0) ? max_distance : S(0));
 }
 
 /// Boolean intersection test with early exit as soon as a separating plane is found. `status` is

@@ -35,7 +35,8 @@ template <class S = double> struct GjkSettings {
     /// cylinders and cones extra ones, hence the cap. Only the work depends on it, never the answer.
     int momentum_iterations = 5;
     /// Cold boolean queries on shapes with bounding balls (`HasBoundingBalls`: every primitive and
-    /// `ConvexPolyhedron`): before any support query, answer "separated" when the balls about the two centres
+    /// `ConvexPolyhedron`), and cold `gjk_distance_within` (its "separated" needing balls apart by more than its
+    /// bound): before any support query, answer "separated" when the balls about the two centres
     /// that contain the shapes are disjoint, and "intersecting" when the balls that the shapes contain
     /// overlap, each beyond a rounding slack (256ε times the magnitudes involved). Such answers report
     /// `iterations == 0`; a separated one has the ball gap as its distance (a lower bound), the centre line

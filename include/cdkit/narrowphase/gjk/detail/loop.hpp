@@ -25,23 +25,30 @@ namespace detail {
 /// tolerance), `lower_out` the best
 /// separating-plane bound the boolean test found (0 for distance queries, which do not need it). `boolean` (a
 /// template parameter, so that each query's loop carries none of the other's bookkeeping: 3.6 % fewer instructions
-/// per warm distance query in the coherent benchmark) selects the early exit.
+/// per warm distance query in the coherent benchmark) selects the early exit. `bounded` (a distance query with a
+/// bound, `gjk_distance_within`): the distance loop with the boolean's plane exit, taken only where the plane proves
+/// the core distance exceeds early_exit_margin + `beyond` (the caller's bound); below that the same loop goes on to
+/// the distance, so a pair that needs one pays for one search.
 ///
 /// The boolean exit tests every support point, the very first one included: for any direction u, w = s_D(−u)
 /// minimises u·x over D, so u·w/|u| > 0 is a separating plane whether or not u is the closest point of the
 /// current simplex (distant pairs are then decided by one support pair). A coherent pair's cached direction, the
 /// one that separated it the frame before, is tested before the loop (`warm_direction_separates`).
-template <bool use_cores, bool boolean, SupportMapped A, SupportMapped B>
+template <bool use_cores, bool boolean, bool bounded = false, SupportMapped A, SupportMapped B>
 inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Scalar>& rel,
                           const GjkSettings<typename A::Scalar>& settings, GjkCache<typename A::Scalar>* cache,
                           typename A::Scalar early_exit_margin, GjkSimplex<typename A::Scalar>& s,
                           Vec3<typename A::Scalar>& v, typename A::Scalar& size_out, int& iterations,
                           typename A::Scalar& lower_out, typename A::Scalar exit_quality = 0,
                           GjkVertex<typename A::Scalar>* exit_support = nullptr,
-                          bool* tolerance_met = nullptr) noexcept {
+                          bool* tolerance_met = nullptr, typename A::Scalar beyond = 0) noexcept {
     using S = typename A::Scalar;
     using Solver = SimplexSolver<S>;
+    constexpr bool plane_exit = boolean || bounded;
     const S eps = std::numeric_limits<S>::epsilon();
+    // The level a plane must clear for the early exit: the margins, plus a bounded query's bound (0 for a boolean,
+    // the same bits as the margins alone).
+    const S exit_level = early_exit_margin + beyond;
     // The start direction from the centres; a warm start replaces it with its rebuilt simplex's closest point
     // (for the shapes the cache's points belong to the rebuild usually succeeds; centre_direction if not).
     const bool rebuilds = cache && cache->size > 0 && cache->shape_a == static_cast<const void*>(&a) &&
@@ -70,7 +77,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     GjkVertex<S> best_x;
     // Read only when best_saved; zeroed in the boolean loop all the same, where GCC cannot see that through the
     // inlined exits (-Wmaybe-uninitialized).
-    if constexpr (boolean) best_x.w = best_x.a = best_x.b = best_x.d = best_x.b_local = Vec3<S>::Zero();
+    if constexpr (plane_exit) best_x.w = best_x.a = best_x.b = best_x.d = best_x.b_local = Vec3<S>::Zero();
     bool best_saved = false;
     // v·w and |v|² at the loop's exits on |v| (gap test, repeated point, no progress): the plane bound there.
     S exit_vw = S(0), exit_vv = S(0);
@@ -87,7 +94,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         size_out = std::sqrt(tol2());
         // A separated boolean reports the plane of its best bound (the exit's own direction may be weaker
         // when a warm start waited for exit_quality).
-        if (boolean && st == GjkStatus::separated && best_saved && exit_support) {
+        if (plane_exit && st == GjkStatus::separated && best_saved && exit_support) {
             v = best_u;
             *exit_support = best_x;
         }
@@ -109,6 +116,11 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         // No positive plane now and none before: nothing to test (skips the sqrt and division on the
         // iterations that do not separate).
         if (!(uw > S(0)) && !(lower_bound > S(0))) return false;
+        if constexpr (bounded && !boolean) {
+            // A bounded query keeps only bounds above its level (nothing else decides anything there), so that the
+            // iterations of a pair within the bound pay three products, not a sqrt and a division each.
+            if (!(lower_bound > S(0)) && !(uw * uw > exit_level * exit_level * u.squaredNorm())) return false;
+        }
         const S un = u.norm();
         if (!(un > S(0))) return false;
         const S bound = uw / un;
@@ -116,11 +128,9 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         if (improved) lower_bound = bound;
         // Same threshold as gjk_query applies to the early exit.
         const S size = std::sqrt(tol2());
-        if (!(boolean &&
-              lower_bound > early_exit_margin + settings.touch_factor * eps * std::max(size, early_exit_margin)))
+        if (!(plane_exit && lower_bound > exit_level + settings.touch_factor * eps * std::max(size, exit_level)))
             return false;
-        if (exit_quality > S(0) &&
-            !(s.size > 0 && lower_bound - early_exit_margin >= exit_quality * (un - early_exit_margin))) {
+        if (exit_quality > S(0) && !(s.size > 0 && lower_bound - exit_level >= exit_quality * (un - exit_level))) {
             if (improved) {
                 best_u = u;
                 best_x = x;
@@ -197,7 +207,7 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
         minkowski_support_into<use_cores>(x, a, b, rel, d, hints);
         if (!all_finite(x.w)) { status = GjkStatus::degenerate; break; }
         size2 = std::max(size2, x.w.squaredNorm());
-        if (boolean && separates(v, x)) {
+        if (plane_exit && separates(v, x)) {
             status = GjkStatus::separated;
             if (exit_support) *exit_support = x;
             store(&x);
@@ -312,16 +322,19 @@ inline GjkStatus gjk_loop(const A& a, const B& b, const Transform<typename A::Sc
     return done(status);
 }
 
-/// The result of a query from the loop's outcome: status, distance, normal and world-frame points.
+/// The result of a query from the loop's outcome: status, distance, normal and world-frame points. `plane_exit`
+/// (a boolean, or a bounded distance query whose bound is `beyond`): a separated outcome whose plane bound clears
+/// the margins + `beyond` is answered with that plane (the bound as distance), not with |v|. Returns whether it was.
 template <SupportMapped A, SupportMapped B>
-inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
+inline bool gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                        const GjkSettings<typename A::Scalar>& settings, GjkResult<typename A::Scalar>& r,
                        GjkStatus st, const Vec3<typename A::Scalar>& v, typename A::Scalar size,
-                       typename A::Scalar lower, const GjkVertex<typename A::Scalar>& sep, bool boolean) noexcept {
+                       typename A::Scalar lower, const GjkVertex<typename A::Scalar>& sep, bool plane_exit,
+                       typename A::Scalar beyond = 0) noexcept {
     using S = typename A::Scalar;
     const S margin = margin_of(a) + margin_of(b);
     const S tiny = settings.touch_factor * std::numeric_limits<S>::epsilon() * std::max(size, margin);
-    if (boolean && st == GjkStatus::separated && lower > margin + tiny) {
+    if (plane_exit && st == GjkStatus::separated && lower > margin + beyond + tiny) {
         r.status = GjkStatus::separated;
         r.distance = lower - margin;
         const S vn = v.norm();
@@ -334,12 +347,12 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
                 r.point_b = place(pose_a, pushed_out(b, sep.b, Vec3<S>(-n)));
             }
         }
-        return;
+        return true;
     }
     if (st == GjkStatus::intersecting) {  // no witness points: the result reports none for an overlap
         r.status = GjkStatus::intersecting;
         r.distance = S(0);
-        return;
+        return false;
     }
     // Witness points on the cores, then push them out by the margins along the normal.
     SimplexSolver<S>::sliver_weights(r.simplex, v);
@@ -357,15 +370,16 @@ inline void gjk_finish(const A& a, const Transform<typename A::Scalar>& pose_a, 
     if (st == GjkStatus::max_iterations || st == GjkStatus::degenerate) {
         r.status = st;
         r.distance = std::max(dist, S(0));
-        return;
+        return false;
     }
     if (st == GjkStatus::touching || std::abs(dist) <= tiny) {
         r.status = margin > S(0) && dist < -tiny ? GjkStatus::intersecting : GjkStatus::touching;
         r.distance = S(0);
-        return;
+        return false;
     }
     r.status = dist > S(0) ? GjkStatus::separated : GjkStatus::intersecting;
     r.distance = std::max(dist, S(0));
+    return false;
 }
 
 /// `certify_separation` and then `gjk_finish`, out of line: the arguments are copies and the relative pose is

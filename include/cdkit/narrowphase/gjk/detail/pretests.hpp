@@ -23,20 +23,23 @@ namespace detail {
 /// centres (a rotation and a translation, a few ε of those magnitudes), of delta and of the squares many
 /// times over, and is at least the touching tolerance gjk_finish applies (256ε·max(|w|, margin) with
 /// |w| ≤ |ca − cb| + R_a + R_b): an answer given here is the one the full query would give, only sooner.
+/// `beyond` (a bounded distance query's bound, gjk_distance_within; 0 for the boolean): "separated" only for balls
+/// apart by more than that.
 template <SupportMapped A, SupportMapped B>
 inline bool bounding_ball_decides(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                                   const Transform<typename A::Scalar>& pose_b, const Vec3<typename A::Scalar>& ca,
                                   const Vec3<typename A::Scalar>& cb, const Vec3<typename A::Scalar>& delta,
-                                  typename A::Scalar dd, typename A::Scalar tf,
-                                  GjkResult<typename A::Scalar>& r) noexcept {
+                                  typename A::Scalar dd, typename A::Scalar tf, GjkResult<typename A::Scalar>& r,
+                                  typename A::Scalar beyond = 0) noexcept {
     using S = typename A::Scalar;
     const S ra = a.bounding_radius(), rb = b.bounding_radius();
     const S slack = tf * (norm1(pose_a.t) + norm1(pose_b.t) + norm1(ca) + norm1(cb) + ra + rb);
     const S outer = ra + rb + slack;
-    if (dd > outer * outer) {
+    const S reach = outer + beyond;
+    if (dd > reach * reach) {
         const S len = std::sqrt(dd);
         const S gap = len - outer;
-        if (!(gap > S(0))) return false;
+        if (!(gap > beyond)) return false;
         const S inv = S(1) / len;
         const Vec3<S> n(-delta[0] * inv, -delta[1] * inv, -delta[2] * inv);  // A towards B
         r.iterations = 0;
@@ -250,6 +253,7 @@ CDKIT_ALWAYS_INLINE bool candidate_axes_decide(const A& a, const Transform<typen
 /// first iteration (v the centre line, da = R_aᵀ·(−v)) and the warm query's cached direction (da the cached one,
 /// v = −R_a·da: the same bits as that query had on its own). Returned by value, the caller copying the points
 /// into locals: filled through a reference, the cold query kept them in memory (hull pairs 4–12 % slower).
+/// `beyond` (a bounded distance query's bound; 0 for the booleans): the plane must clear the margins + beyond.
 enum class WorldStep { separated, open, non_finite };
 template <class S> struct WorldPair {
     Vec3<S> sa, sb;  ///< the support points, each in its shape's frame
@@ -261,9 +265,11 @@ CDKIT_ALWAYS_INLINE WorldPair<typename A::Scalar> world_plane_step(const A& a, c
                                                const Transform<typename A::Scalar>& pose_b,
                                                const Vec3<typename A::Scalar>& v, typename A::Scalar vv,
                                                const Vec3<typename A::Scalar>& da, typename A::Scalar tf,
-                                               std::uint32_t* hints, GjkResult<typename A::Scalar>& r) noexcept {
+                                               std::uint32_t* hints, GjkResult<typename A::Scalar>& r,
+                                               typename A::Scalar beyond = 0) noexcept {
     using S = typename A::Scalar;
     const S ma = margin_of(a), mb = margin_of(b), margin = ma + mb;
+    const S level = margin + beyond;
     WorldPair<S> pair;
     pair.sa = core_support_hinted(a, da, hints);
     pair.sb = core_support_hinted(b, rotate_back(pose_b.R, v), hints + 1);
@@ -277,8 +283,8 @@ CDKIT_ALWAYS_INLINE WorldPair<typename A::Scalar> world_plane_step(const A& a, c
     // the origin. |w| alone shrinks to nothing on a touching pair and let a rounding-level gap pass as a plane
     // (a cone–hull pair at gap 0, 100 sizes from the origin: "separated" at 2e-16 of the size). The |w| test
     // first: the magnitudes are only needed when it passes.
-    if (!(plane_separates_squared(vw, vv, pair.size2, margin, tf) &&
-          plane_separates_squared(vw, vv, std::max(pair.size2, std::max(norm2(pa), norm2(pb))), margin, tf))) {
+    if (!(plane_separates_squared(vw, vv, pair.size2, level, tf) &&
+          plane_separates_squared(vw, vv, std::max(pair.size2, std::max(norm2(pa), norm2(pb))), level, tf))) {
         pair.step = WorldStep::open;
         return pair;
     }
@@ -299,18 +305,22 @@ CDKIT_ALWAYS_INLINE WorldPair<typename A::Scalar> world_plane_step(const A& a, c
 /// in world axes. The loop's former test of that direction (A's frame, square roots for the bound and the
 /// tolerance, the result rotated back) made a warm boolean dearer than a cold one on separated frames (126 vs
 /// 96 ns in the coherent benchmark). True, with `r` and the cache's hints set, when the pair separates
-/// (iterations 0); otherwise the pair goes into the cache's first slot for the loop (see below).
+/// (iterations 0); otherwise the pair goes into the cache's first slot for the loop (see below). `beyond`: as for
+/// world_plane_step (a bounded distance query's bound). A bounded query leaves the slot as it is (`refill` false):
+/// its pairs within the bound converge from last frame's final simplex, which the fresh point along that simplex's
+/// first direction served worse (cylinder–hull pairs within a 2 cm margin: 16.0 against 15.0 iterations).
 template <SupportMapped A, SupportMapped B>
 inline bool warm_direction_separates(const A& a, const Transform<typename A::Scalar>& pose_a, const B& b,
                                      const Transform<typename A::Scalar>& pose_b,
                                      const GjkSettings<typename A::Scalar>& settings,
-                                     GjkCache<typename A::Scalar>& cache, GjkResult<typename A::Scalar>& r) noexcept {
+                                     GjkCache<typename A::Scalar>& cache, GjkResult<typename A::Scalar>& r,
+                                     typename A::Scalar beyond = 0, bool refill = true) noexcept {
     using S = typename A::Scalar;
     const S tf = settings.touch_factor * std::numeric_limits<S>::epsilon();
     const Vec3<S>& d = cache.directions[0];  // A's support direction (towards B), A's frame
     const Vec3<S> v = neg(rotate(pose_a.R, d));  // from B towards A in world axes, as the cold query's centre line
     std::uint32_t hints[2] = {cache.hint_a, cache.hint_b};
-    const WorldPair<S> pair = world_plane_step(a, pose_a, b, pose_b, v, norm2(v), d, tf, hints, r);
+    const WorldPair<S> pair = world_plane_step(a, pose_a, b, pose_b, v, norm2(v), d, tf, hints, r, beyond);
     switch (pair.step) {
         case WorldStep::separated:
             r.iterations = 0;
@@ -321,7 +331,8 @@ inline bool warm_direction_separates(const A& a, const Transform<typename A::Sca
         case WorldStep::open:
             // No plane: the pair is this frame's point of D along the cached direction. In the cache's first
             // slot (when its points are these shapes') the loop rebuilds it there instead of querying it again.
-            if (cache.shape_a == static_cast<const void*>(&a) && cache.shape_b == static_cast<const void*>(&b)) {
+            if (refill && cache.shape_a == static_cast<const void*>(&a) &&
+                cache.shape_b == static_cast<const void*>(&b)) {
                 cache.point_a[0] = pair.sa;
                 cache.point_b[0] = pair.sb;
             }
