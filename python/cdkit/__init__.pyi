@@ -1095,6 +1095,9 @@ def edge_edge_ccd(a0_t0: ArrayLike, a1_t0: ArrayLike, b0_t0: ArrayLike, b1_t0: A
 def gjk_distance(a: Shape, pose_a: Pose | None, b: Shape, pose_b: Pose | None, cache: GjkCache | None = None, settings: GjkSettings | None = None) -> GjkResult:
     """Separation distance with closest points and normal (world frame)."""
 
+def gjk_distance_within(a: Shape, pose_a: Pose | None, b: Shape, pose_b: Pose | None, max_distance: float, cache: GjkCache | None = None, settings: GjkSettings | None = None) -> GjkResult:
+    """One GJK search for a speculative contact: colliding, or the distance with closest points when it is at most max_distance, else separated with a lower bound above max_distance as distance."""
+
 def gjk_intersect(a: Shape, pose_a: Pose | None, b: Shape, pose_b: Pose | None, cache: GjkCache | None = None, settings: GjkSettings | None = None) -> GjkResult:
     """Boolean GJK with early exit: status separated (with a proven plane), touching or intersecting."""
 

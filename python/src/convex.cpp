@@ -159,6 +159,22 @@ void init_convex(py::module_& m) {
         },
         py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("cache") = py::none(),
         py::arg("settings") = py::none(), "Separation distance with closest points and normal (world frame).");
+    m.def(
+        "gjk_distance_within",
+        [](py::object a, py::object pose_a, py::object b, py::object pose_b, double max_distance, py::object cache,
+           py::object settings) {
+            const ShapeVar sa = shape_of(a, "a"), sb = shape_of(b, "b");
+            const Pose pa = pose(pose_a, "pose_a"), pb = pose(pose_b, "pose_b");
+            GjkCache<double>* c = gjk_cache(cache);
+            const GjkSettings<double> s = gjk_settings(settings);
+            py::gil_scoped_release nogil;
+            return std::visit([&](auto* x, auto* y) { return gjk_distance_within(*x, pa, *y, pb, max_distance, c, s); },
+                              sa, sb);
+        },
+        py::arg("a"), py::arg("pose_a"), py::arg("b"), py::arg("pose_b"), py::arg("max_distance"),
+        py::arg("cache") = py::none(), py::arg("settings") = py::none(),
+        "One GJK search for a speculative contact: colliding, or the distance with closest points when it is at most "
+        "max_distance, else separated with a lower bound above max_distance as distance.");
 
     py::class_<EpaSettings<double>>(m, "EpaSettings", "Tolerances of EPA (penetration).")
         .def(py::init<>())

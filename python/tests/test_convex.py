@@ -33,6 +33,19 @@ def test_boxes_axis_aligned():
     assert p.depth == pytest.approx(0.2, rel=1e-6)
 
 
+def test_distance_within_a_bound():
+    a = cdkit.Box([0.5, 0.5, 0.5])
+    # Within the bound: the exact distance, as gjk_distance gives it; beyond: a lower bound above the bound.
+    for gap, bound in ((0.05, 0.1), (0.3, 0.1), (0.1, math.inf)):
+        w = cdkit.gjk_distance_within(a, None, a, translation(1 + gap), bound)
+        assert w.status == cdkit.GjkStatus.separated and not w.colliding
+        if gap <= bound:
+            assert w.distance == pytest.approx(gap, abs=1e-12)
+        else:
+            assert bound < w.distance <= gap + 1e-12
+    assert cdkit.gjk_distance_within(a, None, a, translation(0.9), 0.1).colliding
+
+
 def test_every_shape_pair_runs(shapes):
     for a in shapes:
         for b in shapes:

@@ -19,9 +19,11 @@ ARRAY_ARGS = {"vertices", "faces", "points", "origins", "directions", "lo", "hi"
               "direction", "translation", "rotation", "reference_a", "reference_b", "origin", "p_t0", "a_t0", "b_t0",
               "c_t0", "p_t1", "a_t1", "b_t1", "c_t1", "a0_t0", "a1_t0", "b0_t0", "b1_t0", "a0_t1", "a1_t1", "b0_t1",
               "b1_t1"}
-CACHES = {"gjk_intersect": "GjkCache", "gjk_distance": "GjkCache", "separating_plane_intersect": "SeparatingPlaneCache",
+CACHES = {"gjk_intersect": "GjkCache", "gjk_distance": "GjkCache", "gjk_distance_within": "GjkCache",
+          "separating_plane_intersect": "SeparatingPlaneCache",
           "closest_features": "ClosestFeatureCache", "contact_manifold": "ManifoldCache"}
-SHAPE_FUNCS = {"gjk_intersect", "gjk_distance", "penetration", "separating_plane_intersect", "convex_toi",
+SHAPE_FUNCS = {"gjk_intersect", "gjk_distance", "gjk_distance_within", "penetration", "separating_plane_intersect",
+               "convex_toi",
                "mesh_convex_collide", "mesh_convex_distance", "mesh_convex_penetration", "mesh_convex_toi",
                "convex_ray_cast", "contact_manifold"}
 REQUESTS = {"collide": "CollisionRequest", "collide_brute_force": "CollisionRequest", "distance": "DistanceRequest",
@@ -30,7 +32,8 @@ REQUESTS = {"collide": "CollisionRequest", "collide_brute_force": "CollisionRequ
             "mesh_convex_collide": "MeshConvexRequest", "mesh_convex_distance": "DistanceRequest",
             "mesh_convex_penetration": "MeshConvexRequest", "mesh_convex_toi": "ToiRequest", "mesh_toi": "ToiRequest",
             "convex_ray_cast": "ConvexRayRequest", "contact_manifold": "ManifoldRequest"}
-SETTINGS = {"gjk_intersect": "GjkSettings", "gjk_distance": "GjkSettings", "penetration": "EpaSettings",
+SETTINGS = {"gjk_intersect": "GjkSettings", "gjk_distance": "GjkSettings", "gjk_distance_within": "GjkSettings",
+            "penetration": "EpaSettings",
             "separating_plane_intersect": "SeparatingPlaneSettings",
             "closest_features": "ClosestFeatureSettings"}
 
