@@ -13,8 +13,8 @@
 
 #include <array>
 #include <concepts>
-#include <utility>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace cdkit {
@@ -135,7 +135,7 @@ bool traverse_overlapping_leaves(const P& pair, Visitor&& visit, TraversalStats&
             bool ok0, ok1 = false;
             std::uint32_t n;
             if constexpr (SiblingDescentPair<P>) {
-                // Both children in one test; the nearer overlapping child first (a first contact sooner).
+                // Both children in one test; the deeper-overlapping child first (a first contact sooner).
                 const bool da = detail::descends_a(pair, p.a, p.b, xl, yl);
                 const auto s = da ? pair.template siblings_overlap<true>(p.a, p.b)
                                   : pair.template siblings_overlap<false>(p.a, p.b);
