@@ -110,9 +110,11 @@ template <class BV> struct BvhDescentPair {
 
     /// Obb trees: both children of the node the descent splits (x's when DescendA, else y's) against the
     /// other node, in one two-lane test (bv/detail/obb_sibling_test.hpp), with the order to enter them.
+    /// Forced inline: in a large translation unit (the Python module's) GCC kept it out of line, one call per
+    /// split.
     template <bool DescendA>
         requires std::same_as<BV, Obb<B>>
-    [[nodiscard]] SiblingOverlap siblings_overlap(std::uint32_t x, std::uint32_t y) const noexcept {
+    [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap siblings_overlap(std::uint32_t x, std::uint32_t y) const noexcept {
         if constexpr (DescendA) {
             const std::uint32_t c = a.nodes[x].first;
             return children_overlap_box(a.nodes[c].bv, a.nodes[c + 1].bv, b.nodes[y].bv, rel);
