@@ -198,3 +198,32 @@ TEMPLATE_TEST_CASE("queries refuse poses that are not rigid motions", "[robustne
     CHECK(res.status == QueryStatus::ok);
     CHECK(res.colliding);
 }
+
+// pose_is_usable is is_valid(√ε) written for speed (six dot products, a triple product, no finiteness pass over
+// R): it must refuse a NaN or an infinity in any of the twelve entries, and agree with is_valid elsewhere.
+TEMPLATE_TEST_CASE("pose_is_usable refuses every non-finite entry and agrees with is_valid", "[robustness]", float,
+                   double) {
+    using S = TestType;
+    const S tol = std::sqrt(std::numeric_limits<S>::epsilon());
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int refused = 0, accepted = 0;
+    for (int i = 0; i < 2000; ++i) {
+        Transform<S> p(test::random_rotation<S>(rng), Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng))));
+        for (const S bad : {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
+                            -std::numeric_limits<S>::infinity()}) {
+            for (int k = 0; k < 12; ++k) {
+                Transform<S> q = p;
+                (k < 9 ? q.R(k / 3, k % 3) : q.t[k - 9]) = bad;
+                REQUIRE_FALSE(pose_is_usable(q));
+            }
+        }
+        // Perturbations around the tolerance: both tests decide alike.
+        Transform<S> q = p;
+        q.R(int(i % 3), int(i / 3 % 3)) += S(u(rng)) * S(3) * tol;
+        REQUIRE(pose_is_usable(q) == q.is_valid(tol));
+        pose_is_usable(q) ? ++accepted : ++refused;
+    }
+    CHECK(accepted > 100);
+    CHECK(refused > 100);
+}
