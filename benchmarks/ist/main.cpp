@@ -36,6 +36,7 @@
 //   at the other depths, and on the other meshes; --poses (default 8) per δ, --lines (default 256), --csv.
 #include "../thread_cpu_clock.hpp"
 #include "out_of_sample.hpp"
+#include "oracles/contact_poses.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/io/load_mesh.hpp"
@@ -401,25 +402,13 @@ int main(int argc, char** argv) {
         std::printf("# cdkit_bench_ist: %s (%zu triangles), %d poses at δ = -0.05 (depth %.4f), %ld MC samples (check), %d² reference lines%s\n\n",
                     mesh_path.c_str(), mesh.triangles.size(), poses, 0.05 * diag, samples, line_grid, quick ? " (--quick)" : "");
 
-        // Poses: bisection to contact on the meshes, then 5% of the diagonal deeper.
-        const MeshModel<Obb<double>> model(mesh);
+        // Poses: bisection to contact on the meshes, then 5% of the diagonal deeper (oracles/contact_poses.hpp).
         const InsideTest inside(mesh);
-        std::mt19937_64 rng(2024);
-        std::normal_distribution<double> g;
+        std::mt19937_64 rng(2024);  // the poses, then the Monte Carlo check's samples
         std::vector<Transform<double>> pose_b, pose_apart;
-        for (int i = 0; i < poses; ++i) {
-            Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-            q.normalize();
-            Vec3<double> u(g(rng), g(rng), g(rng));
-            u.normalize();
-            const Mat3<double> R = q.toRotationMatrix();
-            double in = 0, out = 2 * diag;
-            for (int it = 0; it < 40; ++it) {
-                const double mid = (in + out) / 2;
-                (collide(model, Transform<double>{}, model, Transform<double>(R, mid * u)).colliding ? in : out) = mid;
-            }
-            pose_b.emplace_back(R, (out - 0.05 * diag) * u);
-            pose_apart.emplace_back(R, (out + 0.05 * diag) * u);
+        for (const test::ContactPose& p : test::contact_poses(mesh, diag, poses, rng)) {
+            pose_b.push_back(test::pose_past_contact(p, diag, 0.05));
+            pose_apart.push_back(test::pose_past_contact(p, diag, -0.05));
         }
         // Reference of vol(A ∩ B) per pose: integration along lines (ist/intersection_volume.hpp), checked
         // against plain Monte Carlo (uniform samples in the boxes' overlap, exact inside tests).

@@ -22,6 +22,8 @@
 // one more packing) at the same mesh, count and δ.
 #include "out_of_sample.hpp"
 
+#include "oracles/contact_poses.hpp"
+
 #include "../provenance.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
@@ -70,7 +72,7 @@ struct MeshCase {
     std::vector<double> ref_rel_se_max;                // [depth]: largest relative standard error of the reference
 };
 
-MeshCase load_case(const std::string& path, const std::vector<double>& depths, int poses, int line_grid) {
+MeshCase load_case(const std::string& path, const std::vector<double>& depths, int pose_count, int line_grid) {
     MeshCase m;
     m.label = std::filesystem::path(path).stem().string();
     m.mesh = load_mesh(path);
@@ -81,34 +83,16 @@ MeshCase load_case(const std::string& path, const std::vector<double>& depths, i
     for (const auto& v : m.mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
     m.diag = (hi - lo).norm();
 
-    // The main run's pose generator (benchmarks/ist/main.cpp): the same seed, the same draws.
-    const MeshModel<Obb<double>> model(m.mesh);
-    std::mt19937_64 rng(2024);
-    std::normal_distribution<double> g;
-    std::vector<Mat3<double>> R;
-    std::vector<Vec3<double>> u;
-    std::vector<double> contact;
-    for (int i = 0; i < poses; ++i) {
-        Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-        q.normalize();
-        Vec3<double> d(g(rng), g(rng), g(rng));
-        d.normalize();
-        R.push_back(q.toRotationMatrix());
-        u.push_back(d);
-        double in = 0, out = 2 * m.diag;
-        for (int it = 0; it < 40; ++it) {
-            const double mid = (in + out) / 2;
-            (collide(model, Transform<double>{}, model, Transform<double>(R.back(), mid * d)).colliding ? in : out) = mid;
-        }
-        contact.push_back(out);
-    }
+    // The main run's pose generator (benchmarks/ist/main.cpp): the same seed, the same draws; the test that bounds
+    // these figures (tests/ist/test_ist_accuracy.cpp) draws them through the same header.
+    const std::vector<test::ContactPose> poses = test::contact_poses(m.mesh, m.diag, pose_count);
     const InsideTest inside(m.mesh);
     m.pose.resize(depths.size());
     m.reference.resize(depths.size());
     m.ref_rel_se_max.assign(depths.size(), 0.0);
     for (std::size_t k = 0; k < depths.size(); ++k)
-        for (int i = 0; i < poses; ++i) {
-            const Transform<double> pb(R[std::size_t(i)], (contact[std::size_t(i)] - depths[k] * m.diag) * u[std::size_t(i)]);
+        for (int i = 0; i < pose_count; ++i) {
+            const Transform<double> pb = test::pose_past_contact(poses[std::size_t(i)], m.diag, depths[k]);
             TriangleMesh<double> moved = m.mesh;
             for (auto& v : moved.vertices) v = pb * v;
             const IntersectionVolume r = mesh_intersection_volume(

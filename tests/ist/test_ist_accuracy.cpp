@@ -5,6 +5,7 @@
 // default α at δ = −0.01 and −0.2, and another mesh's α, within 1.5× of the figures in
 // results/ist_out_of_sample.csv.
 #include "ist_test_util.hpp"
+#include "oracles/contact_poses.hpp"
 
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
@@ -14,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 
 using namespace cdkit;
@@ -85,50 +87,17 @@ namespace {
 // Out of sample (issue 37): the default α is derived from self-contacts pushed 5% of the diagonal past first
 // contact, the depth of the test above, so that test's error is in-sample. The cases below use the poses,
 // references and trees of `cdkit_bench_ist --out-of-sample` (out_of_sample.cpp: the main run's P2 generator,
-// seed 2024, one direction per pose evaluated at every δ; lines 256² × 8 passes, seed 1000·k + i + 1 for the
+// oracles/contact_poses.hpp, seed 2024, one direction per pose evaluated at every δ; lines 256² × 8 passes, seed 1000·k + i + 1 for the
 // k-th depth of 0.01, 0.05, 0.2), so at full size they measure the very figures of results/ist_out_of_sample.csv
 // (rendered in docs/ist.md); the bounds are 1.5× those.
-struct OosPose {
-    Mat3<double> rotation;
-    Vec3<double> direction;
-    double contact = 0;  // translation along direction at first contact of the meshes
-};
-
-std::vector<OosPose> oos_poses(const TriangleMesh<double>& mesh, double diag, int n) {
-    const MeshModel<Obb<double>> model(mesh);
-    std::mt19937_64 rng(2024);
-    std::normal_distribution<double> g;  // one distribution for all draws, as the benchmark
-    std::vector<OosPose> out;
-    for (int i = 0; i < n; ++i) {
-        Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-        q.normalize();
-        Vec3<double> u(g(rng), g(rng), g(rng));
-        u.normalize();
-        OosPose p{q.toRotationMatrix(), u, 0};
-        double in = 0, out_ = 2 * diag;
-        for (int it = 0; it < 40; ++it) {
-            const double mid = (in + out_) / 2;
-            (collide(model, Transform<double>{}, model, Transform<double>(p.rotation, mid * u)).colliding ? in : out_) = mid;
-        }
-        p.contact = out_;
-        out.push_back(p);
-    }
-    return out;
-}
-
-/// B's pose at δ = −depth: moved depth·diagonal past first contact.
-Transform<double> oos_pose(const OosPose& p, double diag, double depth) {
-    return Transform<double>(p.rotation, (p.contact - depth * diag) * p.direction);
-}
-
 /// The benchmark's references of vol(A ∩ B) at δ = −depth (depth_index: its place in the benchmark's list
 /// 0.01, 0.05, 0.2, which seeds the jitter).
-std::vector<double> oos_references(const TriangleMesh<double>& mesh, double diag, const std::vector<OosPose>& poses,
+std::vector<double> oos_references(const TriangleMesh<double>& mesh, double diag, const std::vector<test::ContactPose>& poses,
                                    double depth, int depth_index) {
     const InsideTest inside(mesh);
     std::vector<double> out;
     for (std::size_t i = 0; i < poses.size(); ++i) {
-        const Transform<double> pb = oos_pose(poses[i], diag, depth);
+        const Transform<double> pb = test::pose_past_contact(poses[i], diag, depth);
         TriangleMesh<double> moved = mesh;
         for (auto& v : moved.vertices) v = pb * v;
         out.push_back(mesh_intersection_volume(inside, InsideTest(std::move(moved)),
@@ -143,13 +112,13 @@ struct OosErrors {
 };
 
 /// The calibrated estimate's relative errors over the poses at δ = −depth.
-OosErrors oos_errors(const InnerSphereTree& tree, double diag, const std::vector<OosPose>& poses, double depth,
+OosErrors oos_errors(const InnerSphereTree& tree, double diag, const std::vector<test::ContactPose>& poses, double depth,
                      const std::vector<double>& reference) {
     std::vector<double> abs_err;
     OosErrors e;
     for (std::size_t i = 0; i < poses.size(); ++i) {
         REQUIRE(reference[i] > 0);
-        const double rel = (penetration_volume(tree, {}, tree, oos_pose(poses[i], diag, depth)).calibrated - reference[i]) / reference[i];
+        const double rel = (penetration_volume(tree, {}, tree, test::pose_past_contact(poses[i], diag, depth)).calibrated - reference[i]) / reference[i];
         abs_err.push_back(std::abs(rel));
         e.mean_abs += std::abs(rel) / double(poses.size());
         e.mean_signed += rel / double(poses.size());
@@ -168,7 +137,7 @@ TEST_CASE("calibrated volume out of sample at other contact depths and with anot
     for (const auto& v : bunny.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
     const double diag = (hi - lo).norm();
     const int n = scaled(8, 4);  // the benchmark's 8 poses; a prefix of them in reduced runs
-    const std::vector<OosPose> poses = oos_poses(bunny, diag, n);
+    const std::vector<test::ContactPose> poses = test::contact_poses(bunny, diag, n);
     const bool full = n == 8;
 
     struct Case {
@@ -176,18 +145,19 @@ TEST_CASE("calibrated volume out of sample at other contact depths and with anot
         double depth;
         int depth_index;
         bool armadillo_alpha;  // α derived on the Armadillo (same count, contact depth = |δ|) instead of the bunny's default
-        double doc_median, doc_mean_abs;  // results/ist_out_of_sample.csv (median_pct, mean_abs_pct), in %
+        double doc_median, doc_mean_abs, doc_mean_signed;  // results/ist_out_of_sample.csv (median_pct, mean_abs_pct,
+                                                           // mean_signed_pct), in %
     };
     const Case cases[] = {
         // The default α (derived at c = 0.05) evaluated at δ = −0.01 and −0.2: the bunny's "other depth" rows with α
         // depth 0.05. At δ = −0.01 the estimate is far low whatever α (docs/ist.md, "Out of sample"): the bound
         // only catches it getting worse.
-        {1000, 0.01, 0, false, 56.1, 65.2},
-        {1000, 0.2, 2, false, 3.2, 6.1},
-        {10000, 0.01, 0, false, 26.4, 27.0},
-        {10000, 0.2, 2, false, 0.7, 1.3},
+        {1000, 0.01, 0, false, 56.1, 65.2, -52.6},
+        {1000, 0.2, 2, false, 3.2, 6.1, 4.7},
+        {10000, 0.01, 0, false, 26.4, 27.0, -27.0},
+        {10000, 0.2, 2, false, 0.7, 1.3, 0.9},
         // The Armadillo's α (derived at c = 0.05, 1k spheres) on the bunny at δ = −0.05: the "other mesh" row.
-        {1000, 0.05, 1, true, 9.7, 11.6},
+        {1000, 0.05, 1, true, 9.7, 11.6, -4.3},
     };
     std::vector<double> reference[3];  // per depth index, computed once
     for (const Case& c : cases) {
@@ -209,6 +179,11 @@ TEST_CASE("calibrated volume out of sample at other contact depths and with anot
                        << alpha << ": median |error| " << 100 * e.median_abs << "%, mean |error| "
                        << 100 * e.mean_abs << "%, mean signed " << 100 * e.mean_signed << "% over " << n << " poses");
         CHECK(100 * e.mean_abs <= 1.5 * c.doc_mean_abs);
-        if (full) CHECK(100 * e.median_abs <= 1.5 * c.doc_median);  // a prefix's median is not the documented one
+        if (full) {  // a prefix's median and bias are not the documented ones
+            CHECK(100 * e.median_abs <= 1.5 * c.doc_median);
+            // The bias: its size may not grow past 1.5× the documented one (one percentage point of slack for the
+            // near-zero ones), which catches a calibration that trades a low estimate for a high one.
+            CHECK(std::abs(100 * e.mean_signed) <= 1.5 * std::abs(c.doc_mean_signed) + 1);
+        }
     }
 }
