@@ -77,6 +77,7 @@ struct Disagreement {
 
 struct Report {
     std::map<std::string, std::string> machine;   ///< cpu, cores, compiler, build type, date, …
+    std::string provenance;                       ///< comment lines first in results.csv (provenance.hpp)
     Options options;
     std::vector<std::string> methods;             ///< measured methods, in order; methods[0] is the reference
     std::string reference, peer;                  ///< "cdkit_obb_d", "fcl_obbrss"

@@ -5,6 +5,7 @@
 #include "harness.hpp"
 #include "output.hpp"
 #include "peers_fcl.hpp"
+#include "provenance.hpp"
 
 #include "cdkit/core/error.hpp"
 
@@ -225,6 +226,7 @@ int main(int argc, char** argv) {
         cdbench::Report report;
         report.options = *opt;
         report.machine = cdbench::machine_info();
+        report.provenance = cdbench::provenance_lines(argc, argv);
         const auto& m = report.machine;
         std::printf("cdkit_bench: %s, %s cores (on CPU %s); %s; build %s; FCL %s; %s\n", m.at("cpu").c_str(),
                     m.at("cores").c_str(), m.at("cpu_index_start").c_str(), m.at("compiler").c_str(),

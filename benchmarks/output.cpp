@@ -256,7 +256,7 @@ std::vector<std::string> write_outputs(const Report& r) {
 
     {
         auto f = open(dir / "results.csv", written);
-        f << "mesh,triangles,protocol,mode,distance_kind,distance,method,family,poses,mean_us,median_us,p99_us,"
+        f << r.provenance << "mesh,triangles,protocol,mode,distance_kind,distance,method,family,poses,mean_us,median_us,p99_us,"
              "max_us,min_us,frac_colliding,bv_tests_mean,tri_tests_mean,contacts_mean,bool_disagreements,"
              "contact_mismatches,probe_timed_mismatches,ratio_vs_"
           << r.peer << ",first_call_median_us\n";

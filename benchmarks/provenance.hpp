@@ -19,17 +19,21 @@ inline std::string first_line(const char* command) {
     return out.empty() ? "?" : out;
 }
 
-/// Provenance first, as comment lines: command, machine, compiler, commit, date.
-inline void write_provenance(std::FILE* out, int argc, char** argv) {
+/// Provenance as comment lines, first in a CSV: command, machine, compiler, commit, date.
+inline std::string provenance_lines(int argc, char** argv) {
     std::string command;
     for (int i = 0; i < argc; ++i) {  // appended in place: GCC 12 warned (-Wrestrict, a false positive) on " " + string
         if (i) command += ' ';
         command += argv[i];
     }
-    std::fprintf(out, "# command: %s\n# machine: %s\n# compiler: %s\n# commit: %s\n# date: %s\n", command.c_str(),
-                 first_line("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2").c_str(), __VERSION__,
-                 first_line("git -C " CDKIT_SOURCE_DIR " rev-parse --short HEAD").c_str(),
-                 first_line("date -u +%Y-%m-%dT%H:%M:%SZ").c_str());
+    return "# command: " + command + "\n# machine: " +
+           first_line("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2") + "\n# compiler: " + __VERSION__ +
+           "\n# commit: " + first_line("git -C " CDKIT_SOURCE_DIR " rev-parse --short HEAD") +
+           "\n# date: " + first_line("date -u +%Y-%m-%dT%H:%M:%SZ") + "\n";
+}
+
+inline void write_provenance(std::FILE* out, int argc, char** argv) {
+    std::fputs(provenance_lines(argc, argv).c_str(), out);
 }
 
 }  // namespace cdbench
