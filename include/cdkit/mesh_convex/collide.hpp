@@ -15,6 +15,8 @@
 #include "cdkit/mesh_convex/shape_bound.hpp"
 #include "cdkit/mesh_convex/triangle_shape.hpp"
 
+#include <concepts>
+#include <cstdint>
 #include <type_traits>
 
 namespace cdkit {
@@ -60,8 +62,19 @@ template <SupportMapped C, class S>
     return mesh_convex_record(t, witness, pose_mesh, req, out);
 }
 
+/// A node tester that can test both children of a node at once (NodeTester<Obb>: two SIMD lanes), where its
+/// `tests_siblings()` says so for the shape at hand.
+template <class Tester, class BV>
+concept TestsSiblings = requires(const Tester& t, const BV& v) {
+    { t.children_overlap(v, v).second_first } -> std::convertible_to<bool>;
+    { t.tests_siblings() } -> std::convertible_to<bool>;
+};
+
 /// The descent every mesh–convex query but distance makes: depth first through the nodes whose BV `tester` finds
 /// overlapping the shape's bound, `visit(triangle)` on each triangle of the leaves reached until it returns false.
+/// Where the tester takes both children of a node in one test, each node is tested when its parent is split and
+/// the deeper-overlapping child is entered first (as the mesh–mesh descent, bvh/traverse.hpp); otherwise each node
+/// is tested when it is taken from the stack.
 template <class BV, class M, class Tester, class Visit>
 void for_each_candidate_triangle(const MeshModel<BV, M>& mesh, const Tester& tester, TraversalStats& stats,
                                  Visit&& visit) {
@@ -69,6 +82,36 @@ void for_each_candidate_triangle(const MeshModel<BV, M>& mesh, const Tester& tes
     const auto& order = mesh.bvh().triangle_order();
     if (nodes.empty()) return;
     SmallStack<std::uint32_t, 64> stack;
+    if constexpr (TestsSiblings<Tester, BV>) {
+        if (tester.tests_siblings()) {
+            ++stats.bv_tests;
+            if (!tester.overlaps(nodes[0].bv)) return;
+            std::uint32_t at = 0;
+            for (;;) {
+                const BvhNode<BV>& node = nodes[at];
+                if (node.is_leaf()) {
+                    ++stats.leaf_pairs;
+                    for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+                        if (!visit(order[i])) return;
+                } else {
+                    const std::uint32_t c = node.first;  // the children are c and c + 1
+                    const SiblingOverlap s = tester.children_overlap(nodes[c].bv, nodes[c + 1].bv);
+                    stats.bv_tests += 2;
+                    if (s.overlap[0] && s.overlap[1]) {
+                        stack.push(s.second_first ? c : c + 1);
+                        at = s.second_first ? c + 1 : c;
+                        continue;
+                    }
+                    if (s.overlap[0] || s.overlap[1]) {
+                        at = s.overlap[0] ? c : c + 1;
+                        continue;
+                    }
+                }
+                if (stack.empty()) return;
+                at = stack.pop();
+            }
+        }
+    }
     stack.push(0);
     while (!stack.empty()) {
         const BvhNode<BV>& node = nodes[stack.pop()];

@@ -193,4 +193,38 @@ template <class S, class L = Lanes2>
     return sibling_sat<S, L>(ha, b, Rb, T, rel.slack);
 }
 
+/// Children c0, c1 of a node against a probe box p given in the children's own frame (a convex shape's bound in a
+/// mesh–convex query, carried into the mesh frame once per query): no relative transform, p is broadcast to both
+/// lanes. First the probe's circumscribed ball (radius `p_radius` ≥ |p.half|) against the children's face axes,
+/// which needs only the centre offsets and culls most nodes; then the 15 axes (sibling_sat) where a child is left.
+/// Children of scalar C (a float tree over a double mesh too: exact in double lanes) with S's slacks.
+template <class S, class C, class L = Lanes2>
+[[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap children_overlap_probe(const Obb<C>& c0, const Obb<C>& c1,
+                                                                        const Obb<S>& p, S p_radius) noexcept {
+    L ax[3][3];  // ax[k][i]: component k of the children's axis i
+    for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 3; ++i) ax[k][i] = L::of(double(c0.axes(k, i)), double(c1.axes(k, i)));
+    L d[3], a[3];
+    for (int k = 0; k < 3; ++k) {
+        d[k] = L::all(double(p.center[k])) - L::of(double(c0.center[k]), double(c1.center[k]));
+        a[k] = L::of(double(c0.half[k]), double(c1.half[k]));
+    }
+    L T[3];
+    for (int i = 0; i < 3; ++i) T[i] = ax[0][i] * d[0] + ax[1][i] * d[1] + ax[2][i] * d[2];
+    const L r = L::all(double(p_radius));
+    const int ball = (greater(T[0].abs(), a[0] + r) | greater(T[1].abs(), a[1] + r) | greater(T[2].abs(), a[2] + r)).bits();
+    if (ball == 3) return {};
+    L Rb[3][3], hb[3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            Rb[i][j] = ax[0][i] * L::all(double(p.axes(0, j))) + ax[1][i] * L::all(double(p.axes(1, j))) +
+                       ax[2][i] * L::all(double(p.axes(2, j)));
+    for (int k = 0; k < 3; ++k) hb[k] = L::all(double(p.half[k]));
+    SiblingOverlap out = sibling_sat<S, L>(a, hb, Rb, T, 0.0);
+    // A child the ball culled stays culled (the 15 axes would agree up to rounding; the scalar test stops there).
+    if (ball & 1) out.overlap[0] = false, out.second_first = false;
+    if (ball & 2) out.overlap[1] = false, out.second_first = false;
+    return out;
+}
+
 }  // namespace cdkit::detail
