@@ -8,6 +8,7 @@
 //   default N in {1000, 10000}; --full adds N = 100000. --skip leaves a method out (repeatable), e.g.
 //   --skip fcl_sap for a lone --n 100000 run, where nothing tells the budget rule that FCL's SaP takes
 //   minutes per frame.
+#include "../provenance.hpp"
 #include "../thread_cpu_clock.hpp"
 #include "bench_broadphase.hpp"
 
@@ -179,7 +180,7 @@ int main(int argc, char** argv) {
     // (FCL's SaP takes ~0.5 s per teleport frame at 1k and grows quadratically).
     std::map<std::pair<int, std::string>, bool> over_budget;
     std::ofstream out_csv;
-    if (!csv.empty()) out_csv.open(csv), out_csv << "scene,n,method,median_ms,p99_ms,frames,wrong_frames,pairs_last,frames_run\n";
+    if (!csv.empty()) out_csv.open(csv), out_csv << cdbench::provenance_lines(argc, argv) << "scene,n,method,median_ms,p99_ms,frames,wrong_frames,pairs_last,frames_run\n";
     std::size_t total_wrong_cdkit = 0;
     // A method stops for the rest of a scene once it has used this much time (FCL's SaP and interval tree
     // take seconds per frame at 10k in the dense scenes); its row says how many frames it ran.
