@@ -147,7 +147,7 @@ def accuracy_table(out_dir):
     if not os.path.exists(path):
         return []
     with open(path, encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(l for l in f if not l.startswith("#")))  # after the provenance lines
     methods = list(dict.fromkeys(r["method"] for r in rows))
     families = list(dict.fromkeys(r["family"] for r in rows))
     cell = {(r["family"], r["method"]): r for r in rows}
@@ -174,7 +174,7 @@ def plot_speed_vs_error(out_dir):
     if not os.path.exists(path):
         return None, []
     with open(path, encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(l for l in f if not l.startswith("#")))  # after the provenance lines
     floor = 1e-7
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     table = ["| method | ns / test | disagreement rate |", "|---|---:|---:|"]

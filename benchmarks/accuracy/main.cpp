@@ -10,6 +10,7 @@
 /// disagreement rate (--speed-csv, default accuracy_speed.csv) for the time-against-error plot.
 
 #include "../cli_args.hpp"
+#include "../provenance.hpp"
 #include "hard_cases.hpp"
 #include "mesh_factory.hpp"
 #include "oracles.hpp"
@@ -44,6 +45,7 @@ struct Options {
     std::string speed_csv = "accuracy_speed.csv";
     bool mesh = true;
     std::size_t max_mesh_triangles = 4000;
+    std::string provenance;  ///< comment lines first in each CSV (provenance.hpp)
 };
 
 Options parse(int argc, char** argv) {
@@ -64,6 +66,7 @@ Options parse(int argc, char** argv) {
             std::exit(a == "--help" || a == "-h" ? 0 : 2);
         }
     }
+    o.provenance = cdbench::provenance_lines(argc, argv);
     return o;
 }
 
@@ -184,7 +187,7 @@ void print_triangles(const std::vector<Tally>& tallies, const Options& o) {
     std::printf("* a subnormal coordinate (outside the floating-point stages' range: cdkit's wide-integer stage decides),"
                 " from any family; not in ALL\n");
     std::ofstream csv(o.csv);
-    csv << "family,method,cases,oracle_hits,disagreements,false_positives,false_negatives,rate\n";
+    csv << o.provenance << "family,method,cases,oracle_hits,disagreements,false_positives,false_negatives,rate\n";
     auto csv_rows = [&](const std::string& name, const Tally& t) {
         for (int m = 0; m < kMethods; ++m) {
             const long long hits = (m == exact_float || m == fp_float) ? t.hits_float : t.hits;
@@ -234,7 +237,7 @@ void time_methods(const std::vector<Tally>& tallies, const Options& o) {
     std::printf("\nP6 time against error: %zu sampled pairs, median of %d passes\n", ps.size(), kPasses);
     std::printf("%-22s %10s %16s\n", "method", "ns/test", "disagreement %");
     std::ofstream csv(o.speed_csv);
-    csv << "method,ns_per_test,cases,disagreements,rate\n";
+    csv << o.provenance << "method,ns_per_test,cases,disagreements,rate\n";
     long long sink = 0;
     for (int m = 0; m < kMethods; ++m) {
         std::vector<double> ns;
@@ -370,7 +373,7 @@ void run_meshes(const Options& o) {
     std::printf("%-16s %-20s %-18s %8s %9s %8s %8s %6s %9s\n", "mesh", "config", "method", "exact", "reported",
                 "missed", "extra", "bool", "ms");
     std::ofstream csv(o.mesh_csv);
-    csv << "mesh,triangles_a,config,method,exact_pairs,reported_pairs,missed,extra,exact_colliding,colliding,ms\n";
+    csv << o.provenance << "mesh,triangles_a,config,method,exact_pairs,reported_pairs,missed,extra,exact_colliding,colliding,ms\n";
     for (const auto& r : rows) {
         std::printf("%-16s %-20s %-18s %8zu %9zu %8zu %8zu %6s %9.1f\n", r.mesh.c_str(), r.config.c_str(), r.method.c_str(),
                     r.exact, r.reported, r.missed, r.extra, r.colliding == r.exact_colliding ? "ok" : "WRONG", r.ms);

@@ -43,7 +43,7 @@ def main():
     data = {}  # (scene, method) -> {n: (median, complete)}
     for path in paths:
         with open(path, newline="") as f:
-            for r in csv.DictReader(f):
+            for r in csv.DictReader(l for l in f if not l.startswith("#")):  # after the provenance lines
                 if int(r["wrong_frames"]) > 0:
                     continue
                 run = int(r.get("frames_run") or r["frames"])
