@@ -190,8 +190,8 @@ template <class T, class M> struct NodeTester<Obb<T>, M> {
         return b.swept || b.box_is_shape || !corner_only(node);
     }
     /// Whether the descent tests both children of a node at once (children_overlap): for every bound but a
-    /// sphere's, whose test (a point's distance to the box) is cheaper one node at a time (the two-lane form was
-    /// slower on it in the mesh–convex benchmark).
+    /// sphere's, whose test (a point's distance to the box) has nothing to share between two lanes (testing both
+    /// children eagerly was slower on it in a first A/B of the mesh–convex benchmark).
     [[nodiscard]] bool tests_siblings() const noexcept { return !(b.swept && b.seg0 == b.seg1); }
     /// Both children of a node at once, in two SIMD lanes (bv/detail/obb_sibling_test.hpp), with the deeper-
     /// overlapping one to enter first; each child's answer is overlaps()' up to the rounding of the lanes' products
