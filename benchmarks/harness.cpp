@@ -148,9 +148,11 @@ struct Accumulator {
 /// discarded). `first_s` was the pose's first call, and the untimed probe ran after it; neither warms FCL up
 /// (its first call at a pose takes 2.3× its steady time, its probe is another code path, and it settles
 /// after 3–4 repeats: docs/benchmarks.md, "Warm batches"). So `warmup` untimed calls come next, the last
-/// sizing the batches: ≥ `min_batch_us` and, for shorter queries, ≥ `min_reps` calls. A query of ≥ 50 µs
-/// needs no sizing: its first batch is its warm-up. A slow query (`slow`: this method's last sample took ≥
-/// `slow_query_us`; `first_s` < 0 then, as its first call was skipped) gets one call after the probe, as
+/// sizing the batches: ≥ `min_batch_us` and, for queries that are shorter when warm, ≥ `min_reps` calls. This
+/// holds whatever the cold first call took: a query whose first call took 100 µs may settle at 30 µs (FCL did
+/// at the bunny's P2 δ = 0.005), and timing it as single calls, as an earlier rule for first calls ≥
+/// `min_batch_us` did, kept it 27 % slower than plain_bench's. A slow query (`slow`: this method's last sample
+/// took ≥ `slow_query_us`; `first_s` < 0 then, as its first call was skipped) gets one call after the probe, as
 /// before issue 39: cold misses are a small share of it, and repeats would dominate the run time.
 double time_pose(Method& m, const Pose& pose, Mode mode, const Options& opt, double first_s, const Outcome& probe,
                  Accumulator& acc, bool& slow) {
@@ -158,7 +160,7 @@ double time_pose(Method& m, const Pose& pose, Mode mode, const Options& opt, dou
     std::size_t k = 1, batches = std::max<std::size_t>(opt.batches, 1);
     if (slow || first_s >= slow_s) {
         batches = 1;
-    } else if (first_s < target_s) {
+    } else {
         double est = first_s;
         for (std::size_t w = 0; w < opt.warmup; ++w) est = m.time(pose, mode, 1).seconds;
         est = std::max(est, 1e-9);
