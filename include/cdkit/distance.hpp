@@ -134,7 +134,8 @@ template <class S> inline void distance_to_world(const Transform<S>& pose_a, Dis
 /// Separation distance between two mesh models at the given world poses (model frame → world): the
 /// smallest distance between a triangle of A and a triangle of B, with a closest pair of points (world
 /// frame) and the two triangles. 0 with a witness point when the meshes intersect. `request` trades
-/// accuracy for speed (see DistanceRequest). Models: MeshModel<BV, M> with any BV of the family (Aabb, Obb,
+/// accuracy for speed and may bound the range of interest (see DistanceRequest; status invalid_input for a
+/// request out of range). Models: MeshModel<BV, M> with any BV of the family (Aabb, Obb,
 /// Rss, Kdop, BoundingSphere) or a volume of one's own with distance_lower_bound (Rss trees built with
 /// SplitStrategy::sah are the fastest, see docs/bvh.md; the boxes and k-DOPs next, the spheres' bound is the
 /// loosest), and RestrictedBoxtree<S> (boxes implied by one plane per node: bvh/boxtree_descent.hpp).
@@ -151,16 +152,21 @@ template <class A, class B>
         out.status = QueryStatus::invalid_pose;
         return out;
     }
+    if (!detail::distance_request_is_valid(request)) {
+        out.status = QueryStatus::invalid_input;
+        return out;
+    }
     const Transform<S> b_to_a = pose_a.inverse() * pose_b;
     const auto pair = detail::descent_pair(a, b, b_to_a, true);
     using Pair = std::remove_const_t<decltype(pair)>;
     if (pair.a.empty() || pair.b.empty()) return out;
     const auto& ma = a.mesh();
     const auto& mb = b.mesh();
-    const S scale = S(1) / (S(1) + std::max(S(0), request.rel_err));
-    const S abs_err = std::max(S(0), request.abs_err);
-    // Pairs whose bound reaches this are pruned; +inf until a first triangle pair is measured.
-    const auto threshold = [&]() noexcept { return (out.distance - abs_err) * scale; };
+    const S scale = S(1) / (S(1) + request.rel_err), abs_err = request.abs_err;
+    const S cut = detail::distance_request_cut(request);
+    // Pairs whose bound reaches this are pruned; the request's cut (+inf without max_distance) until a first
+    // triangle pair is measured.
+    const auto threshold = [&]() noexcept { return std::min((out.distance - abs_err) * scale, cut); };
 
     using Item = detail::OpenPair<typename Pair::TreeA::Cursor, typename Pair::TreeB::Cursor, S>;
     // Best first: the open pair of smallest bound is expanded next, so only pairs whose bound is below the
@@ -209,6 +215,7 @@ template <class A, class B>
             it = c0;
         }
     }
+    if (detail::beyond_max_distance(out.distance, request)) return DistanceResult<S>{.stats = out.stats};
     detail::distance_to_world(pose_a, out);
     return out;
 }

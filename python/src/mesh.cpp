@@ -5,6 +5,8 @@
 #include <cdkit/io/load_mesh.hpp>
 #include <cdkit/query.hpp>
 
+#include <limits>
+
 namespace cdkit::python {
 
 namespace {
@@ -148,18 +150,23 @@ void init_mesh(py::module_& m) {
                    " colliding=" + (r.colliding ? "True" : "False") + " contacts=" + std::to_string(r.contacts.size()) + ">";
         });
 
-    py::class_<DistanceRequest<double>>(m, "DistanceRequest", "Accuracy wanted from distance(): "
-                                                              "distance <= (1 + rel_err) * true + abs_err.")
-        .def(py::init([](double rel_err, double abs_err) {
-                 if (!(rel_err >= 0) || !(abs_err >= 0)) throw py::value_error("rel_err and abs_err must be >= 0");
+    py::class_<DistanceRequest<double>>(m, "DistanceRequest", "Accuracy and range wanted from distance(): "
+                                                              "distance <= (1 + rel_err) * true + abs_err; pairs farther "
+                                                              "apart than max_distance report inf.")
+        .def(py::init([](double rel_err, double abs_err, double max_distance) {
                  DistanceRequest<double> r;
                  r.rel_err = rel_err;
                  r.abs_err = abs_err;
+                 r.max_distance = max_distance;
+                 if (!detail::distance_request_is_valid(r))
+                     throw py::value_error("rel_err and abs_err must be finite and >= 0, max_distance >= 0 (inf: no bound)");
                  return r;
              }),
-             py::arg("rel_err") = 0.0, py::arg("abs_err") = 0.0)
+             py::arg("rel_err") = 0.0, py::arg("abs_err") = 0.0,
+             py::arg("max_distance") = std::numeric_limits<double>::infinity())
         .def_readonly("rel_err", &DistanceRequest<double>::rel_err)
-        .def_readonly("abs_err", &DistanceRequest<double>::abs_err);
+        .def_readonly("abs_err", &DistanceRequest<double>::abs_err)
+        .def_readonly("max_distance", &DistanceRequest<double>::max_distance);
     py::class_<DistanceStats>(m, "DistanceStats", "Work counters of one distance() query.")
         .def_readonly("bv_tests", &DistanceStats::bv_tests)
         .def_readonly("primitive_tests", &DistanceStats::primitive_tests)

@@ -54,6 +54,21 @@ def test_distance_equals_brute_force_on_small_meshes():
         assert cdkit.distance(m, None, m, pb).distance == cdkit.distance_brute_force(m, None, m, pb).distance
 
 
+def test_distance_max_distance():
+    """Unit cubes 0.5 apart: within max_distance the unbounded answer, beyond it inf; a bad bound is refused."""
+    v, f = cube()
+    m = cdkit.MeshModel(v, f, bv="obb")
+    pb = translation(1.5)
+    assert cdkit.distance(m, None, m, pb).distance == pytest.approx(0.5, abs=1e-12)
+    assert cdkit.distance(m, None, m, pb, cdkit.DistanceRequest(max_distance=0.6)).distance == pytest.approx(0.5, abs=1e-12)
+    assert cdkit.distance(m, None, m, pb, cdkit.DistanceRequest(max_distance=0.4)).distance == np.inf
+    assert cdkit.DistanceRequest().max_distance == np.inf
+    with pytest.raises(ValueError, match="max_distance"):
+        cdkit.DistanceRequest(max_distance=-1.0)
+    with pytest.raises(ValueError, match="max_distance"):
+        cdkit.DistanceRequest(max_distance=float("nan"))
+
+
 def test_pose_forms_agree():
     v, f = cube()
     m = cdkit.MeshModel(v, f)

@@ -11,6 +11,7 @@
 /// touches no triangle and is not reported (this is a surface query).
 
 #include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/bvh/traverse.hpp"
 #include "cdkit/mesh_convex/result.hpp"
 #include "cdkit/mesh_convex/shape_bound.hpp"
 #include "cdkit/mesh_convex/triangle_shape.hpp"

@@ -61,7 +61,7 @@ template <class S> inline void mesh_convex_distance_finish(const Transform<S>& p
 /// 0 and `colliding` when a triangle touches or crosses the shape (a shape wholly inside a closed mesh is at the
 /// distance of the nearest triangle: this is a surface query). The answer satisfies
 /// distance ≤ (1 + rel_err)·true + abs_err for `request`'s errors (both 0 by default: the minimum over every
-/// triangle). Any BV with a NodeTester and any support-mapped shape; status invalid_pose / invalid_input as for
+/// triangle); with `request.max_distance`, a mesh and shape farther apart than that answer +inf (DistanceRequest). Any BV with a NodeTester and any support-mapped shape; status invalid_pose / invalid_input as for
 /// collide(), then distance stays +inf (also for negative or NaN errors: invalid_input). Const and thread-safe;
 /// never throws except std::bad_alloc where a degenerate tree is deeper than 64 levels (the stack spills).
 template <class BV, class M, SupportMapped C>
@@ -74,15 +74,15 @@ template <class BV, class M, SupportMapped C>
     MeshConvexDistanceResult<S> out;
     detail::ShapeBound<S> bound;
     out.status = detail::mesh_convex_setup(pose_mesh, shape, pose_shape, bound);
-    if (out.status == QueryStatus::ok && !(request.rel_err >= S(0) && request.abs_err >= S(0)))
+    if (out.status == QueryStatus::ok && !detail::distance_request_is_valid(request))
         out.status = QueryStatus::invalid_input;
     if (out.status != QueryStatus::ok) return out;
     const auto& nodes = mesh.bvh().nodes();
     const auto& order = mesh.bvh().triangle_order();
     if (nodes.empty()) return out;
     const detail::NodeTester<BV, S> tester(bound, shape);
-    const S scale = S(1) / (S(1) + request.rel_err);
-    auto threshold = [&] { return (out.distance - request.abs_err) * scale; };
+    const S scale = S(1) / (S(1) + request.rel_err), range_cut = detail::distance_request_cut(request);
+    auto threshold = [&] { return std::min((out.distance - request.abs_err) * scale, range_cut); };
     struct Open {
         std::uint32_t node;
         S bound;
@@ -109,6 +109,7 @@ template <class BV, class M, SupportMapped C>
         if (b.bound < cut) stack.push(b);
         if (a.bound < cut) stack.push(a);
     }
+    if (detail::beyond_max_distance(out.distance, request)) return MeshConvexDistanceResult<S>{.stats = out.stats};
     detail::mesh_convex_distance_finish(pose_mesh, out);
     return out;
 }

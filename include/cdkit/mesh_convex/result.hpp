@@ -3,11 +3,12 @@
 /// a support-mapped convex shape). Plain structs, in the library's one vocabulary: a `QueryStatus status`, a
 /// `bool colliding` field, the answer, and `stats` work counters (TraversalStats / DistanceStats).
 
-#include "cdkit/bvh/traverse.hpp"
+#include "cdkit/core/collision_result.hpp"
 #include "cdkit/core/contact_mode.hpp"
+#include "cdkit/core/distance_result.hpp"
 #include "cdkit/core/math.hpp"
 #include "cdkit/core/mesh.hpp"
-#include "cdkit/distance.hpp"
+#include "cdkit/core/status.hpp"
 
 #include <cstddef>
 #include <limits>

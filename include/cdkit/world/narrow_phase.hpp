@@ -232,6 +232,14 @@ Vec3<S> core_to_triangle_direction(const Convex& c, const Transform<S>& pose_c, 
     return safe_normalized(n);
 }
 
+/// A distance query for a speculative contact: only pairs within `margin` matter, so the tree walk prunes
+/// everything farther (a pair beyond it costs a few node bounds, not a full distance query).
+template <class S> [[nodiscard]] DistanceRequest<S> within_request(S margin) noexcept {
+    DistanceRequest<S> r;
+    r.max_distance = margin;
+    return r;
+}
+
 /// A rounded convex shape (core `c`, radius `r` > 0) against a mesh: the core's mesh–convex contact (its depth and
 /// point grown by r) where the core touches the mesh, else the core's distance to the mesh against r (a contact of
 /// depth r − d, or a speculative one within the margin), along the closest points' direction.
@@ -247,7 +255,7 @@ std::optional<WorldContact<S>> rounded_convex_vs_mesh(const Convex& c, S r, cons
         }
         return w;
     }
-    const MeshConvexDistanceResult<S> d = distance(m, pose_m, c, pose_c);
+    const MeshConvexDistanceResult<S> d = distance(m, pose_m, c, pose_c, within_request(r + margin));
     if (!(d.distance <= r + margin)) return std::nullopt;
     // The core touches the mesh by the distance query although the boolean said apart (their tolerances differ
     // within ~1e-9 of touching): the rounded shape overlaps by r, along the closest triangle's separating direction.
@@ -306,7 +314,7 @@ template <class S>
     } else if (!a.is_convex() && !b.is_convex()) {
         out = detail::mesh_vs_mesh(a.mesh_model(), pa, b.mesh_model(), pb, request.mesh_depth);
         if (!out && margin > S(0)) {
-            const DistanceResult<S> d = distance(a.mesh_model(), pa, b.mesh_model(), pb);
+            const DistanceResult<S> d = distance(a.mesh_model(), pa, b.mesh_model(), pb, detail::within_request(margin));
             if (d.distance <= margin)
                 out = detail::speculative_contact(PairMethod::mesh_mesh, d.point_a, d.point_b, d.distance);
         }
@@ -322,7 +330,7 @@ template <class S>
                                                       request.mesh_depth, margin);
             if (auto w = detail::convex_vs_mesh(c, pc, mesh.mesh_model(), pm, convex_first, request.mesh_depth)) return w;
             if (!(margin > S(0))) return std::nullopt;
-            const MeshConvexDistanceResult<S> d = distance(mesh.mesh_model(), pm, c, pc);
+            const MeshConvexDistanceResult<S> d = distance(mesh.mesh_model(), pm, c, pc, detail::within_request(margin));
             if (!(d.distance <= margin)) return std::nullopt;
             return convex_first
                        ? detail::speculative_contact(PairMethod::convex_mesh, d.point_shape, d.point_mesh, d.distance)
