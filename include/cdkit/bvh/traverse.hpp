@@ -9,6 +9,7 @@
 
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/bvh_descent.hpp"
+#include "cdkit/bvh/mixed_descent.hpp"
 #include "cdkit/core/collision_result.hpp"
 
 #include <array>
