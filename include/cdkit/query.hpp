@@ -63,7 +63,8 @@ template <class S> [[nodiscard]] inline bool keep_going(const CollisionRequest& 
 
 /// Two models collide() and distance() descend together: a mesh (`mesh()`) and a tree the simultaneous
 /// descent walks (bvh/traverse.hpp), of one mesh scalar: MeshModel<BV, M> (any BV of the family, float BVs
-/// over a double mesh included) and RestrictedBoxtree<S>, each against its own kind.
+/// over a double mesh included; two different BVs of one scalar descend as boxes, bvh/mixed_descent.hpp) and
+/// RestrictedBoxtree<S>, each against its own kind.
 template <class A, class B>
 concept DescentModels = std::same_as<typename A::Scalar, typename B::Scalar> &&
                         requires(const A& a, const B& b, const Transform<typename A::Scalar>& b_to_a) {
