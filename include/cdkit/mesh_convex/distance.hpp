@@ -61,8 +61,9 @@ template <class S> inline void mesh_convex_distance_finish(const Transform<S>& p
 /// 0 and `colliding` when a triangle touches or crosses the shape (a shape wholly inside a closed mesh is at the
 /// distance of the nearest triangle: this is a surface query). The answer satisfies
 /// distance ≤ (1 + rel_err)·true + abs_err for `request`'s errors (both 0 by default: the minimum over every
-/// triangle); with `request.max_distance`, a mesh and shape farther apart than that answer +inf (DistanceRequest). Any BV with a NodeTester and any support-mapped shape; status invalid_pose / invalid_input as for
-/// collide(), then distance stays +inf (also for negative or NaN errors: invalid_input). Const and thread-safe;
+/// triangle); with `request.max_distance`, a mesh and shape farther apart than that answer +inf (DistanceRequest).
+/// Any BV with a NodeTester and any support-mapped shape; status invalid_pose / invalid_input as for collide(), then
+/// distance stays +inf (also for a request out of range: invalid_input). Const and thread-safe;
 /// never throws except std::bad_alloc where a degenerate tree is deeper than 64 levels (the stack spills).
 template <class BV, class M, SupportMapped C>
     requires std::same_as<typename C::Scalar, M>
