@@ -67,13 +67,12 @@ void check_bounded(const Query& query, const Result& full, S ref, int& within, i
 
 }  // namespace
 
-TEMPLATE_TEST_CASE("mesh distance with max_distance: the unbounded answer within it, +inf beyond it", "[distance]",
-                   Aabb<double>, Obb<double>, Obb<float>, Rss<double>, (Kdop<double, 18>), BoundingSphere<double>) {
-    using BV = TestType;
-    using S = typename BV::Scalar;
-    std::mt19937_64 rng(77);
-    const MeshModel<BV> soup(test::random_soup<S>(60, S(0.3), 5));
-    const MeshModel<BV> sphere(test::uv_sphere<S>(S(0.7), 8, 10));
+namespace {
+/// A random soup against a sphere mesh, each a `Model` (a MeshModel or a RestrictedBoxtree), at random poses.
+template <class Model, class S> void check_models(unsigned seed) {
+    std::mt19937_64 rng(seed);
+    const Model soup(test::random_soup<S>(60, S(0.3), seed));
+    const Model sphere(test::uv_sphere<S>(S(0.7), 8, 10));
     int within = 0, beyond = 0;
     for (int k = 0; k < test::scaled(40, 6); ++k) {
         const Transform<S> pa = random_pose<S>(rng, 1.0), pb = random_pose<S>(rng, 2.5);
@@ -86,22 +85,15 @@ TEMPLATE_TEST_CASE("mesh distance with max_distance: the unbounded answer within
     CHECK(within >= 10);
     CHECK(beyond >= 10);
 }
+}  // namespace
+
+TEMPLATE_TEST_CASE("mesh distance with max_distance: the unbounded answer within it, +inf beyond it", "[distance]",
+                   Aabb<double>, Obb<double>, Obb<float>, Rss<double>, (Kdop<double, 18>), BoundingSphere<double>) {
+    check_models<MeshModel<TestType>, typename TestType::Scalar>(77);
+}
 
 TEST_CASE("boxtree distance with max_distance: the unbounded answer within it, +inf beyond it", "[distance][boxtree]") {
-    std::mt19937_64 rng(78);
-    const RestrictedBoxtree<double> soup(test::random_soup<double>(60, 0.3, 6));
-    const RestrictedBoxtree<double> sphere(test::uv_sphere<double>(0.7, 8, 10));
-    int within = 0, beyond = 0;
-    for (int k = 0; k < test::scaled(40, 6); ++k) {
-        const Transform<double> pa = random_pose<double>(rng, 1.0), pb = random_pose<double>(rng, 2.5);
-        const double ref = distance_brute_force(soup.mesh(), pa, sphere.mesh(), pb).distance;
-        const DistanceResult<double> full = distance(soup, pa, sphere, pb);
-        REQUIRE(full.distance == ref);
-        check_bounded([&](const DistanceRequest<double>& q) { return distance(soup, pa, sphere, pb, q); }, full, ref,
-                      within, beyond);
-    }
-    CHECK(within >= 10);
-    CHECK(beyond >= 10);
+    check_models<RestrictedBoxtree<double>, double>(78);
 }
 
 TEST_CASE("mesh-convex distance with max_distance: the unbounded answer within it, +inf beyond it", "[mesh_convex]") {
