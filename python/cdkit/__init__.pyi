@@ -1088,8 +1088,8 @@ def distance(a: MeshModel, pose_a: Pose | None, b: MeshModel, pose_b: Pose | Non
 def distance_brute_force(a: MeshModel, pose_a: Pose | None, b: MeshModel, pose_b: Pose | None) -> DistanceResult:
     """The all-pairs reference of distance()."""
 
-def distance_many(a: MeshModel, poses_a: ArrayLike | Pose | None, b: MeshModel, poses_b: ArrayLike | Pose | None, rel_err: float = 0.0, abs_err: float = 0.0, threads: int = 0) -> DistanceBatch:
-    """distance(a, poses_a[i], b, poses_b[i]) for every i, as a DistanceBatch of arrays; poses and threads as in collide_many."""
+def distance_many(a: MeshModel, poses_a: ArrayLike | Pose | None, b: MeshModel, poses_b: ArrayLike | Pose | None, rel_err: float = 0.0, abs_err: float = 0.0, max_distance: float = ..., threads: int = 0) -> DistanceBatch:
+    """distance(a, poses_a[i], b, poses_b[i]) for every i, as a DistanceBatch of arrays (inf where a pair lies beyond max_distance); poses and threads as in collide_many."""
 
 def edge_edge_ccd(a0_t0: ArrayLike, a1_t0: ArrayLike, b0_t0: ArrayLike, b1_t0: ArrayLike, a0_t1: ArrayLike, a1_t1: ArrayLike, b0_t1: ArrayLike, b1_t1: ArrayLike, request: CcdRequest | None = None) -> CcdResult:
     """First contact of edge (a0, a1) with edge (b0, b1), end points moving linearly from t = 0 to t = 1."""

@@ -2,6 +2,8 @@
 // for the whole batch (every query runs without it), TBB over all cores or `threads` of them.
 #include "common.hpp"
 
+#include <limits>
+
 #include <cdkit/batch.hpp>
 #include <cdkit/ccd/ray_cast.hpp>
 
@@ -91,8 +93,13 @@ void init_batch(py::module_& m) {
     m.def(
         "distance_many",
         [](const PyMeshModel& a, py::object poses_a, const PyMeshModel& b, py::object poses_b, double rel_err,
-           double abs_err, int threads) {
-            if (!(rel_err >= 0) || !(abs_err >= 0)) throw py::value_error("rel_err and abs_err must be >= 0");
+           double abs_err, double max_distance, int threads) {
+            DistanceRequest<double> req;
+            req.rel_err = rel_err;
+            req.abs_err = abs_err;
+            req.max_distance = max_distance;
+            if (!detail::distance_request_is_valid(req))
+                throw py::value_error("rel_err and abs_err must be finite and >= 0, max_distance >= 0 (inf: no bound)");
             auto [pa, pb] = batch_poses(poses_a, poses_b);
             const py::ssize_t n = py::ssize_t(pa.size());
             DistanceBatch out{py::array_t<double>(n), py::array_t<double>({n, py::ssize_t(3)}),
@@ -100,9 +107,6 @@ void init_batch(py::module_& m) {
                               py::array_t<std::int64_t>(n)};
             double *d = out.distance.mutable_data(), *qa = out.point_a.mutable_data(), *qb = out.point_b.mutable_data();
             std::int64_t *ta = out.triangle_a.mutable_data(), *tb = out.triangle_b.mutable_data();
-            DistanceRequest<double> req;
-            req.rel_err = rel_err;
-            req.abs_err = abs_err;
             visit_pair(a, b, [&](const auto& x, const auto& y) {
                 run_batch(threads, [&] {
                     const auto r = distance_many(x, std::span<const Pose>(pa), y, std::span<const Pose>(pb), req);
@@ -120,9 +124,10 @@ void init_batch(py::module_& m) {
             return out;
         },
         py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::arg("rel_err") = 0.0,
-        py::arg("abs_err") = 0.0, py::arg("threads") = 0,
-        "distance(a, poses_a[i], b, poses_b[i]) for every i, as a DistanceBatch of arrays; poses and threads as in "
-        "collide_many.");
+        py::arg("abs_err") = 0.0, py::arg("max_distance") = std::numeric_limits<double>::infinity(),
+        py::arg("threads") = 0,
+        "distance(a, poses_a[i], b, poses_b[i]) for every i, as a DistanceBatch of arrays (inf where a pair lies "
+        "beyond max_distance); poses and threads as in collide_many.");
 
     // ---- rays -----------------------------------------------------------------------------------------
     py::enum_<RayMode>(m, "RayMode", "Which hits a ray cast reports.")

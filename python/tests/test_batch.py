@@ -46,6 +46,13 @@ def test_batches_equal_loops(models):
     # The error bounds of an approximate batch hold.
     approx = cdkit.distance_many(rss, pa, rss, pb, rel_err=0.1)
     assert np.all(approx.distance <= 1.1 * dloop + 1e-15) and np.all(approx.distance >= dloop - 1e-15)
+    # A range of interest: the unbounded answer within it, inf beyond it.
+    bound = float(np.median(dloop[dloop > 0]))
+    ranged = cdkit.distance_many(rss, pa, rss, pb, max_distance=bound)
+    assert np.array_equal(ranged.distance[dloop <= bound], dloop[dloop <= bound])
+    assert np.all(np.isinf(ranged.distance[dloop > bound])) and (dloop > bound).sum() >= 10
+    with pytest.raises(ValueError, match="max_distance"):
+        cdkit.distance_many(rss, pa, rss, pb, max_distance=-1.0)
 
 
 def test_one_pose_for_every_entry(models):
