@@ -17,8 +17,10 @@
 // the scalar bound (distance_lower_bound_same_frame, no cutoff) for both children for comparison.
 //
 // Usage: cdkit_distance_expansion_cost [--mesh PATH] [--rotations N] [--rounds N] [--evict-mb N] [--calls N]
+//                                      [--csv PATH]   (both parts as rows: part "query" per δ, part "bound")
 // Times are thread CPU time.
 #include "distance_poses.hpp"
+#include "../provenance.hpp"
 #include "../thread_cpu_clock.hpp"
 #include "cdkit/cdkit.hpp"
 #include "cdkit/distance.hpp"
@@ -50,6 +52,7 @@ double us_since(Clock::time_point t0) { return std::chrono::duration<double, std
 int main(int argc, char** argv) {
     std::string path = std::string(CDKIT_BENCH_SOURCE_DIR) + "/data/bunny.obj";
     int rotations = 20, rounds = 5, evict_mb = 2, calls = 4096;
+    std::string csv_path;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
@@ -58,8 +61,10 @@ int main(int argc, char** argv) {
         else if (a == "--rounds") rounds = std::max(1, std::atoi(next().c_str()));
         else if (a == "--evict-mb") evict_mb = std::max(0, std::atoi(next().c_str()));
         else if (a == "--calls") calls = std::max(16, std::atoi(next().c_str()));
+        else if (a == "--csv") csv_path = next();
         else {
-            std::fprintf(stderr, "usage: %s [--mesh PATH] [--rotations N] [--rounds N] [--evict-mb N] [--calls N]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--mesh PATH] [--rotations N] [--rounds N] [--evict-mb N] [--calls N] [--csv PATH]\n",
+                         argv[0]);
             return 2;
         }
     }
@@ -91,6 +96,17 @@ int main(int argc, char** argv) {
         for (std::size_t d = 0; d < std::size(deltas); ++d) poses[d].push_back(Transform<double>(R, (hi + deltas[d] * r) * u));
     }
 
+    std::FILE* csv = nullptr;
+    if (!csv_path.empty()) {
+        csv = std::fopen(csv_path.c_str(), "w");
+        if (!csv) {
+            std::fprintf(stderr, "cannot write %s\n", csv_path.c_str());
+            return 1;
+        }
+        cdbench::write_provenance(csv, argc, argv);
+        std::fprintf(csv, "part,delta,poses,bv_tests,first_us,repeat_us,evicted_us,first_over_repeat,ns_per_expansion_first,"
+                          "ns_per_expansion_repeat,two_lane_ns,two_lane_chained_ns,scalar_pair_ns\n");
+    }
     std::vector<double> evict(std::size_t(evict_mb) * 131072, 1.0);
     double sink = 0;
     std::printf("\n%-7s %6s %9s %10s %10s %11s %12s %13s %10s\n", "delta", "poses", "bv_tests", "first_us", "repeat_us",
@@ -122,6 +138,9 @@ int main(int argc, char** argv) {
         const double expansions = bv / n / 2;  // two bound evaluations per expansion
         std::printf("%-7.3f %6zu %9.0f %10.1f %10.1f %11.1f %12.2f %13.0f %10.0f\n", deltas[d], P.size(), bv / n, fm, rm, em,
                     fm / rm, 1e3 * fm / expansions, 1e3 * rm / expansions);
+        if (csv)
+            std::fprintf(csv, "query,%g,%zu,%.0f,%.2f,%.2f,%.2f,%.3f,%.1f,%.1f,,,\n", deltas[d], P.size(), bv / n, fm, rm, em,
+                         fm / rm, 1e3 * fm / expansions, 1e3 * rm / expansions);
     }
 
     // Part 2: the bound alone, on random (inner node, node) pairs under one rigid motion.
@@ -131,6 +150,7 @@ int main(int argc, char** argv) {
         if (!nodes[i].is_leaf()) inner.push_back(i);
     if (inner.empty()) {
         std::printf("\n(no inner nodes: no bound timings)\n");
+        if (csv) std::fclose(csv);
         return 0;
     }
     std::mt19937 pick(7);
@@ -178,6 +198,10 @@ int main(int argc, char** argv) {
     std::printf("\nbound of both children of a node against one other node (transformed + bound), %d random pairs:\n", calls);
     std::printf("  two-lane, independent calls %.1f ns/call; chained %.1f ns/call; scalar bound x2 %.1f ns (%.2fx the two-lane)\n",
                 median(indep), median(chained), median(scalar), median(scalar) / median(indep));
+    if (csv) {
+        std::fprintf(csv, "bound,,%d,,,,,,,,%.2f,%.2f,%.2f\n", calls, median(indep), median(chained), median(scalar));
+        std::fclose(csv);
+    }
     std::printf("\n(checksum %g)\n", sink);
     return 0;
 }

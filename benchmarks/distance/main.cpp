@@ -1,7 +1,8 @@
 // cdkit_bench_distance: separation distance between two copies of a mesh at P2 proximity poses
 // (BENCHMARKS.md): random rotation and direction, bisection to contact with cdkit::collide, then queries at
 // s* + δ·r for δ ∈ {0.005, 0.01, 0.05, 0.2}. cdkit distance() (Aabb, Obb, Rss and Rss<float> over the double
-// mesh with SAH splits, Rss with 4-triangle leaves, Rss with median splits, the restricted boxtree; rel_err 0
+// mesh with SAH splits, Rss with 4-triangle leaves, Rss with median splits, the restricted boxtree, the Obb tree
+// against the Rss tree (mixed trees, cdkit_obb_x_rss); rel_err 0
 // and 0.01) against FCL's fcl::distance (BVHModel<RSS> with each of FCL's three split rules, BVHModel<OBBRSS>;
 // rel_err 0 and 0.01) in one process, fixed seeds.
 //
@@ -221,6 +222,13 @@ int main(int argc, char** argv) {
                     return Answer{res.distance, res.stats.bv_tests, res.stats.primitive_tests, res.stats.primitive_skips};
                 };
             };
+            // Mixed trees (bvh/mixed_descent.hpp): A's tree of one volume against B's of another.
+            auto cd_mixed = [&](const auto& model_a, const auto& model_b) {
+                return [&](std::size_t i) {
+                    const auto res = distance(model_a, Transform<double>(), model_b, P[i]);
+                    return Answer{res.distance, res.stats.bv_tests, res.stats.primitive_tests, res.stats.primitive_skips};
+                };
+            };
             auto fd = [&](std::vector<fcl::CollisionObjectd>& A, std::vector<fcl::CollisionObjectd>& B, double rel) {
                 return [&, rel](std::size_t i) {
                     fcl::DistanceRequestd req(true, false, rel, 0.0);
@@ -241,6 +249,7 @@ int main(int argc, char** argv) {
                 {"cdkit_rss_leaf4", "fcl_rss", "fcl_obbrss", cd(m_rss4, 0.0)},
                 {"cdkit_rss_median", "fcl_rss", "fcl_obbrss", cd(m_rss_median, 0.0)},
                 {"cdkit_boxtree", "fcl_rss", "fcl_obbrss", cd(m_boxtree, 0.0)},
+                {"cdkit_obb_x_rss", "fcl_rss", "fcl_obbrss", cd_mixed(m_obb, m_rss)},
                 {"fcl_rss_rel0.01", "", "", fd(fa_rss, fb_rss, 0.01), 0.01},
                 {"fcl_rss_median_rel0.01", "", "", fd(fa_med, fb_med, 0.01), 0.01},
                 {"fcl_obbrss_rel0.01", "", "", fd(fa_or, fb_or, 0.01), 0.01},
