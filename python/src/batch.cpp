@@ -94,12 +94,7 @@ void init_batch(py::module_& m) {
         "distance_many",
         [](const PyMeshModel& a, py::object poses_a, const PyMeshModel& b, py::object poses_b, double rel_err,
            double abs_err, double max_distance, int threads) {
-            DistanceRequest<double> req;
-            req.rel_err = rel_err;
-            req.abs_err = abs_err;
-            req.max_distance = max_distance;
-            if (!detail::distance_request_is_valid(req))
-                throw py::value_error("rel_err and abs_err must be finite and >= 0, max_distance >= 0 (inf: no bound)");
+            const DistanceRequest<double> req = distance_request(rel_err, abs_err, max_distance);
             auto [pa, pb] = batch_poses(poses_a, poses_b);
             const py::ssize_t n = py::ssize_t(pa.size());
             DistanceBatch out{py::array_t<double>(n), py::array_t<double>({n, py::ssize_t(3)}),

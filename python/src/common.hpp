@@ -13,6 +13,7 @@
 #include <cdkit/bv/rss.hpp>
 #include <cdkit/bv/sphere.hpp>
 #include <cdkit/bvh/mesh_model.hpp>
+#include <cdkit/core/distance_result.hpp>
 #include <cdkit/core/math.hpp>
 #include <cdkit/core/mesh.hpp>
 #include <cdkit/narrowphase/convex_polyhedron.hpp>
@@ -116,5 +117,17 @@ void init_mesh_convex(py::module_& m);
 void init_mesh_convex_ccd(py::module_& m);
 void init_manifold(py::module_& m);
 void init_mesh_depth(py::module_& m);
+
+/// A DistanceRequest from Python's keywords, checked (ValueError naming the fields), as DistanceRequest() and
+/// distance_many() take them.
+inline DistanceRequest<double> distance_request(double rel_err, double abs_err, double max_distance) {
+    DistanceRequest<double> r;
+    r.rel_err = rel_err;
+    r.abs_err = abs_err;
+    r.max_distance = max_distance;
+    if (!cdkit::detail::distance_request_is_valid(r))
+        throw py::value_error("rel_err and abs_err must be finite and >= 0, max_distance >= 0 (inf: no bound)");
+    return r;
+}
 
 }  // namespace cdkit::python

@@ -153,15 +153,7 @@ void init_mesh(py::module_& m) {
     py::class_<DistanceRequest<double>>(m, "DistanceRequest", "Accuracy and range wanted from distance(): "
                                                               "distance <= (1 + rel_err) * true + abs_err; pairs farther "
                                                               "apart than max_distance report inf.")
-        .def(py::init([](double rel_err, double abs_err, double max_distance) {
-                 DistanceRequest<double> r;
-                 r.rel_err = rel_err;
-                 r.abs_err = abs_err;
-                 r.max_distance = max_distance;
-                 if (!detail::distance_request_is_valid(r))
-                     throw py::value_error("rel_err and abs_err must be finite and >= 0, max_distance >= 0 (inf: no bound)");
-                 return r;
-             }),
+        .def(py::init(&distance_request),
              py::arg("rel_err") = 0.0, py::arg("abs_err") = 0.0,
              py::arg("max_distance") = std::numeric_limits<double>::infinity())
         .def_readonly("rel_err", &DistanceRequest<double>::rel_err)
