@@ -21,22 +21,22 @@ using namespace cdkit;
 
 namespace {
 
-template <class S> Transform<S> random_pose(std::mt19937_64& rng, double spread) {
+template <class S> Transform<S> max_test_pose(std::mt19937_64& rng, double spread) {
     std::uniform_real_distribution<double> u(-spread, spread);
     return Transform<double>(test::random_rotation<double>(rng), Vec3<double>(u(rng), u(rng), u(rng))).template cast<S>();
 }
 
 /// The bounds a test tries around a pair's true distance `d`: below, at, one ulp either side, above, none.
-template <class S> std::vector<S> bounds_around(S d) {
+template <class S> std::vector<S> max_bounds_around(S d) {
     const S inf = std::numeric_limits<S>::infinity();
     return {S(0), d / 2, std::nextafter(d, S(0)), d, std::nextafter(d, inf), d * S(1.5) + S(0.01), inf};
 }
 
 /// max_distance's contract for one pair (a, b) whose unbounded answer is `full` and true distance `ref`.
 template <class Query, class Result, class S>
-void check_bounded(const Query& query, const Result& full, S ref, int& within, int& beyond) {
+void check_max_bounded(const Query& query, const Result& full, S ref, int& within, int& beyond) {
     const S inf = std::numeric_limits<S>::infinity();
-    for (const S max : bounds_around(ref)) {
+    for (const S max : max_bounds_around(ref)) {
         DistanceRequest<S> request;
         request.max_distance = max;
         const Result r = query(request);
@@ -69,17 +69,17 @@ void check_bounded(const Query& query, const Result& full, S ref, int& within, i
 
 namespace {
 /// A random soup against a sphere mesh, each a `Model` (a MeshModel or a RestrictedBoxtree), at random poses.
-template <class Model, class S> void check_models(unsigned seed) {
+template <class Model, class S> void check_max_models(unsigned seed) {
     std::mt19937_64 rng(seed);
     const Model soup(test::random_soup<S>(60, S(0.3), seed));
     const Model sphere(test::uv_sphere<S>(S(0.7), 8, 10));
     int within = 0, beyond = 0;
     for (int k = 0; k < test::scaled(40, 6); ++k) {
-        const Transform<S> pa = random_pose<S>(rng, 1.0), pb = random_pose<S>(rng, 2.5);
+        const Transform<S> pa = max_test_pose<S>(rng, 1.0), pb = max_test_pose<S>(rng, 2.5);
         const S ref = distance_brute_force(soup.mesh(), pa, sphere.mesh(), pb).distance;
         const DistanceResult<S> full = distance(soup, pa, sphere, pb);
         REQUIRE(full.distance == ref);
-        check_bounded([&](const DistanceRequest<S>& q) { return distance(soup, pa, sphere, pb, q); }, full, ref, within,
+        check_max_bounded([&](const DistanceRequest<S>& q) { return distance(soup, pa, sphere, pb, q); }, full, ref, within,
                       beyond);
     }
     CHECK(within >= 10);
@@ -89,11 +89,11 @@ template <class Model, class S> void check_models(unsigned seed) {
 
 TEMPLATE_TEST_CASE("mesh distance with max_distance: the unbounded answer within it, +inf beyond it", "[distance]",
                    Aabb<double>, Obb<double>, Obb<float>, Rss<double>, (Kdop<double, 18>), BoundingSphere<double>) {
-    check_models<MeshModel<TestType>, typename TestType::Scalar>(77);
+    check_max_models<MeshModel<TestType>, typename TestType::Scalar>(77);
 }
 
 TEST_CASE("boxtree distance with max_distance: the unbounded answer within it, +inf beyond it", "[distance][boxtree]") {
-    check_models<RestrictedBoxtree<double>, double>(78);
+    check_max_models<RestrictedBoxtree<double>, double>(78);
 }
 
 TEST_CASE("mesh-convex distance with max_distance: the unbounded answer within it, +inf beyond it", "[mesh_convex]") {
@@ -104,12 +104,12 @@ TEST_CASE("mesh-convex distance with max_distance: the unbounded answer within i
     const Capsule<double> capsule(0.15, 0.5);
     int within = 0, beyond = 0;
     for (int k = 0; k < test::scaled(30, 6); ++k) {
-        const Transform<double> pm = random_pose<double>(rng, 1.0), ps = random_pose<double>(rng, 2.0);
+        const Transform<double> pm = max_test_pose<double>(rng, 1.0), ps = max_test_pose<double>(rng, 2.0);
         const auto one = [&](const auto& model, const auto& shape) {
             const auto ref = distance_brute_force(model.mesh(), pm, shape, ps);
             const auto full = distance(model, pm, shape, ps);
             REQUIRE(full.distance == ref.distance);
-            check_bounded([&](const DistanceRequest<double>& q) { return distance(model, pm, shape, ps, q); }, full,
+            check_max_bounded([&](const DistanceRequest<double>& q) { return distance(model, pm, shape, ps, q); }, full,
                           ref.distance, within, beyond);
         };
         one(obb, box);

@@ -19,19 +19,19 @@ using namespace cdkit;
 
 namespace {
 
-template <class S> Transform<S> random_pose(std::mt19937_64& rng, double spread) {
+template <class S> Transform<S> mixed_test_pose(std::mt19937_64& rng, double spread) {
     std::uniform_real_distribution<double> u(-spread, spread);
     return Transform<double>(test::random_rotation<double>(rng), Vec3<double>(u(rng), u(rng), u(rng))).template cast<S>();
 }
 
-template <class S> std::set<std::pair<Index, Index>> contact_set(const CollisionResult<S>& r) {
+template <class S> std::set<std::pair<Index, Index>> mixed_contact_set(const CollisionResult<S>& r) {
     std::set<std::pair<Index, Index>> out;
     for (const Contact<S>& c : r.contacts) out.insert({c.triangle_a, c.triangle_b});
     return out;
 }
 
 /// Both models of one pair of volumes against the brute force, at random poses; counts both outcomes.
-template <class BVA, class BVB> void check_pair(int seed) {
+template <class BVA, class BVB> void check_mixed_pair(int seed) {
     using S = typename BVA::Scalar;
     std::mt19937_64 rng(seed);
     const TriangleMesh<S> soup = test::random_soup<S>(70, S(0.3), unsigned(seed));
@@ -41,16 +41,16 @@ template <class BVA, class BVB> void check_pair(int seed) {
     int hits = 0, misses = 0;
     const CollisionRequest all{ContactMode::all};
     for (int k = 0; k < test::scaled(40, 6); ++k) {
-        const Transform<S> pa = random_pose<S>(rng, 1.0), pb = random_pose<S>(rng, 2.0);
+        const Transform<S> pa = mixed_test_pose<S>(rng, 1.0), pb = mixed_test_pose<S>(rng, 2.0);
         INFO(BVA::name << " vs " << BVB::name << ", pose " << k);
         const CollisionResult<S> ref = collide_brute_force(soup, pa, sphere, pb, all);
         const CollisionResult<S> r = collide(a, pa, b, pb, all);
         REQUIRE(r.status == QueryStatus::ok);
         CHECK(r.colliding == ref.colliding);
-        CHECK(contact_set(r) == contact_set(ref));
+        CHECK(mixed_contact_set(r) == mixed_contact_set(ref));
         CHECK(collide(a, pa, b, pb).colliding == ref.colliding);  // first contact
         // B against A too: the mixed pair in the other order.
-        CHECK(contact_set(collide(b, pb, a, pa, all)).size() == ref.contacts.size());
+        CHECK(mixed_contact_set(collide(b, pb, a, pa, all)).size() == ref.contacts.size());
         const DistanceResult<S> d = distance(a, pa, b, pb);
         CHECK(d.distance == distance_brute_force(soup, pa, sphere, pb).distance);
         CHECK(distance(b, pb, a, pa).distance == distance_brute_force(sphere, pb, soup, pa).distance);
@@ -63,14 +63,14 @@ template <class BVA, class BVB> void check_pair(int seed) {
 }  // namespace
 
 TEST_CASE("mixed trees: collide and distance equal the brute force for every pair of volumes", "[collide][distance]") {
-    check_pair<Obb<double>, Rss<double>>(1);
-    check_pair<Aabb<double>, Obb<double>>(2);
-    check_pair<Rss<double>, BoundingSphere<double>>(3);
-    check_pair<Kdop<double, 18>, Rss<double>>(4);
-    check_pair<Kdop<double, 26>, Aabb<double>>(5);
-    check_pair<BoundingSphere<double>, Kdop<double, 14>>(6);
-    check_pair<Obb<float>, Rss<float>>(7);
-    check_pair<Aabb<float>, Kdop<float, 18>>(8);
+    check_mixed_pair<Obb<double>, Rss<double>>(1);
+    check_mixed_pair<Aabb<double>, Obb<double>>(2);
+    check_mixed_pair<Rss<double>, BoundingSphere<double>>(3);
+    check_mixed_pair<Kdop<double, 18>, Rss<double>>(4);
+    check_mixed_pair<Kdop<double, 26>, Aabb<double>>(5);
+    check_mixed_pair<BoundingSphere<double>, Kdop<double, 14>>(6);
+    check_mixed_pair<Obb<float>, Rss<float>>(7);
+    check_mixed_pair<Aabb<float>, Kdop<float, 18>>(8);
 }
 
 TEST_CASE("mixed trees: float volumes over double meshes mix with each other", "[collide][distance]") {
@@ -80,7 +80,7 @@ TEST_CASE("mixed trees: float volumes over double meshes mix with each other", "
     const MeshModel<Obb<float>, double> a(soup);
     const MeshModel<Rss<float>, double> b(sphere);
     for (int k = 0; k < test::scaled(30, 6); ++k) {
-        const Transform<double> pa = random_pose<double>(rng, 1.0), pb = random_pose<double>(rng, 2.0);
+        const Transform<double> pa = mixed_test_pose<double>(rng, 1.0), pb = mixed_test_pose<double>(rng, 2.0);
         CHECK(collide(a, pa, b, pb).colliding == collide_brute_force(soup, pa, sphere, pb).colliding);
         CHECK(distance(a, pa, b, pb).distance == distance_brute_force(soup, pa, sphere, pb).distance);
     }
