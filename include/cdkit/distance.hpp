@@ -162,11 +162,10 @@ template <class A, class B>
     if (pair.a.empty() || pair.b.empty()) return out;
     const auto& ma = a.mesh();
     const auto& mb = b.mesh();
-    const S scale = S(1) / (S(1) + request.rel_err), abs_err = request.abs_err;
-    const S cut = detail::distance_request_cut(request);
     // Pairs whose bound reaches this are pruned; the request's cut (+inf without max_distance) until a first
     // triangle pair is measured.
-    const auto threshold = [&]() noexcept { return std::min((out.distance - abs_err) * scale, cut); };
+    const detail::DistancePruning<S> pruning(request);
+    const auto threshold = [&]() noexcept { return pruning.threshold(out.distance); };
 
     using Item = detail::OpenPair<typename Pair::TreeA::Cursor, typename Pair::TreeB::Cursor, S>;
     // Best first: the open pair of smallest bound is expanded next, so only pairs whose bound is below the

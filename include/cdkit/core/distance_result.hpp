@@ -6,6 +6,7 @@
 #include "cdkit/core/mesh.hpp"
 #include "cdkit/core/status.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -35,6 +36,15 @@ template <class S> [[nodiscard]] inline bool distance_request_is_valid(const Dis
 template <class S> [[nodiscard]] inline S distance_request_cut(const DistanceRequest<S>& r) noexcept {
     return std::nextafter(r.max_distance, std::numeric_limits<S>::infinity());
 }
+/// The level a node pair's lower bound must stay under to be expanded, given the best distance found so far:
+/// (best − abs_err)/(1 + rel_err), which keeps best ≤ (1 + rel_err)·true + abs_err, and never above the request's
+/// cut (+inf without max_distance). One rule for every distance() descent.
+template <class S> struct DistancePruning {
+    S scale, abs_err, cut;
+    explicit DistancePruning(const DistanceRequest<S>& r) noexcept
+        : scale(S(1) / (S(1) + r.rel_err)), abs_err(r.abs_err), cut(distance_request_cut(r)) {}
+    [[nodiscard]] S threshold(S best) const noexcept { return std::min((best - abs_err) * scale, cut); }
+};
 /// Whether a found distance lies beyond what the request wants reported (see DistanceRequest).
 template <class S> [[nodiscard]] inline bool beyond_max_distance(S found, const DistanceRequest<S>& r) noexcept {
     return found > (S(1) + r.rel_err) * r.max_distance + r.abs_err;

@@ -82,8 +82,8 @@ template <class BV, class M, SupportMapped C>
     const auto& order = mesh.bvh().triangle_order();
     if (nodes.empty()) return out;
     const detail::NodeTester<BV, S> tester(bound, shape);
-    const S scale = S(1) / (S(1) + request.rel_err), range_cut = detail::distance_request_cut(request);
-    auto threshold = [&] { return std::min((out.distance - request.abs_err) * scale, range_cut); };
+    const detail::DistancePruning<S> pruning(request);
+    auto threshold = [&] { return pruning.threshold(out.distance); };
     struct Open {
         std::uint32_t node;
         S bound;
