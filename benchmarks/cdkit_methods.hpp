@@ -8,6 +8,7 @@
 #include "cdkit/bv/aabb.hpp"
 #include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
+#include "cdkit/bv/rss.hpp"
 #include "cdkit/bv/sphere.hpp"
 #include "cdkit/bvh/boxtree.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
@@ -25,7 +26,7 @@ namespace cdbench {
 /// the model that P2's bisection uses.
 /// Kdop<6> (culls less than Aabb's 15-axis test) and the float DOPs are left out of the default list to keep
 /// the main job short; add them here to measure them.
-using CdkitBvs = std::tuple<cdkit::Obb<double>, cdkit::Aabb<double>, cdkit::Obb<float>, cdkit::Aabb<float>,
+using CdkitBvs = std::tuple<cdkit::Obb<double>, cdkit::Aabb<double>, cdkit::Rss<double>, cdkit::Obb<float>, cdkit::Aabb<float>,
                             cdkit::Kdop<double, 14>, cdkit::Kdop<double, 18>, cdkit::Kdop<double, 26>,
                             cdkit::BoundingSphere<double>, cdkit::BoundingSphere<float>>;
 /// Float BVs over the double mesh (MeshModel<BV, double>): half the node bytes, the double mesh's answers.

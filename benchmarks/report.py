@@ -32,6 +32,7 @@ STYLE = {
     "cdkit_aabb_d": ("tab:orange", "-", "s", "full"),
     "cdkit_obb_f": ("tab:blue", ":", "o", "none"),
     "cdkit_aabb_f": ("tab:orange", ":", "s", "none"),
+    "cdkit_rss_d": ("tab:green", "-", "s", "full"),
     "fcl_obbrss": ("tab:green", "--", "^", "full"),
     "fcl_obb": ("tab:blue", "--", "v", "full"),
     "fcl_aabb": ("tab:orange", "--", "D", "full"),

@@ -50,14 +50,14 @@ void check_against_brute_force(const TriangleMesh<typename BV::Scalar>& ma, cons
 }
 }  // namespace
 
-TEMPLATE_PRODUCT_TEST_CASE("collide equals brute force on closed spheres", "[collide]", (cdkit::Aabb, cdkit::Obb),
+TEMPLATE_PRODUCT_TEST_CASE("collide equals brute force on closed spheres", "[collide]", (cdkit::Aabb, cdkit::Obb, cdkit::Rss),
                            (float, double)) {
     using S = typename TestType::Scalar;
     const auto sphere = test::uv_sphere<S>(S(1), 10, 20);
     check_against_brute_force<TestType>(sphere, sphere, test::scaled(60, 10), 2.6, 11);
 }
 
-TEMPLATE_PRODUCT_TEST_CASE("collide equals brute force on polygon soups", "[collide]", (cdkit::Aabb, cdkit::Obb),
+TEMPLATE_PRODUCT_TEST_CASE("collide equals brute force on polygon soups", "[collide]", (cdkit::Aabb, cdkit::Obb, cdkit::Rss),
                            (float, double)) {
     using S = typename TestType::Scalar;
     const auto a = test::random_soup<S>(300, S(0.15), 5);

@@ -60,6 +60,10 @@ template <class BVA, class BVB> void check_mixed_pair(int seed) {
     CHECK(misses >= 2);
 }
 
+// Mixed pairs take the two-lane sibling test of Obb trees on their enclosing boxes (bvh/traverse.hpp).
+static_assert(SiblingDescentPair<detail::MixedDescentPair<Rss<double>, Aabb<double>>>);
+static_assert(SiblingDescentPair<detail::MixedDescentPair<Obb<float>, BoundingSphere<float>>>);
+
 }  // namespace
 
 TEST_CASE("mixed trees: collide and distance equal the brute force for every pair of volumes", "[collide][distance]") {

@@ -1,11 +1,13 @@
 #pragma once
 /// \file Bvh<BV> as a tree of the simultaneous descent (bvh/traverse.hpp): cursors are node indices, each node
 /// stores its volume, and a node pair's test is the BV's own overlap() or distance_lower_bound() under the
-/// relative transform, in the BV's scalar (float volumes over a double mesh test in float, see MeshModel).
+/// relative transform, in the BV's scalar (float volumes over a double mesh test in float, see MeshModel); an Rss
+/// tree's collide() tests the children below its roots as their enclosing boxes (siblings_overlap).
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bv/detail/distance_rss_pair.hpp"
 #include "cdkit/bv/detail/obb_sibling_test.hpp"
+#include "cdkit/bv/enclosing_obb.hpp"
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/core/inlining.hpp"
@@ -73,6 +75,25 @@ template <class BV> struct BvhDescentTree {
     }
 };
 
+/// Both children of the node the descent splits (x's in tree `ta` when DescendA, else y's in `tb`) against the
+/// other node, as their enclosing boxes in one two-lane test (bv/detail/obb_sibling_test.hpp), with the order to
+/// enter them. `rel` takes B's frame to A's.
+template <bool DescendA, class BVA, class BVB>
+[[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap boxed_siblings_overlap(const BvhDescentTree<BVA>& ta,
+                                                                       const BvhDescentTree<BVB>& tb, std::uint32_t x,
+                                                                       std::uint32_t y,
+                                                                       const typename Obb<typename BVA::Scalar>::Relative& rel) noexcept {
+    if constexpr (DescendA) {
+        const std::uint32_t c = ta.nodes[x].first;
+        return children_overlap_box(enclosing_obb(ta.nodes[c].bv), enclosing_obb(ta.nodes[c + 1].bv),
+                                    enclosing_obb(tb.nodes[y].bv), rel);
+    } else {
+        const std::uint32_t c = tb.nodes[y].first;
+        return box_overlap_children(enclosing_obb(ta.nodes[x].bv), enclosing_obb(tb.nodes[c].bv),
+                                    enclosing_obb(tb.nodes[c + 1].bv), rel);
+    }
+}
+
 /// Two Bvhs of one BV under the relative transform B → A (BV::Relative, computed once per query).
 template <class BV> struct BvhDescentPair {
     using TreeA = BvhDescentTree<BV>;
@@ -111,17 +132,14 @@ template <class BV> struct BvhDescentPair {
     /// Obb trees: both children of the node the descent splits (x's when DescendA, else y's) against the
     /// other node, in one two-lane test (bv/detail/obb_sibling_test.hpp), with the order to enter them.
     /// Forced inline: in a large translation unit (the Python module's) GCC kept it out of line, one call per
-    /// split.
+    /// split. Rss trees take the same test on their nodes' enclosing boxes: the Rss's own overlap is a
+    /// distance bound (rectangles, then spheres), several times the box test's cost, and the looser boxes cost
+    /// fewer node tests than they add (the children's ranking finds a first contact sooner; on the bunny at P1
+    /// d = 0.2: 6,032 → 3,568 tests, 11.9 → 4.0 µs per first-contact query).
     template <bool DescendA>
-        requires std::same_as<BV, Obb<B>>
+        requires std::same_as<BV, Obb<B>> || std::same_as<BV, Rss<B>>
     [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap siblings_overlap(std::uint32_t x, std::uint32_t y) const noexcept {
-        if constexpr (DescendA) {
-            const std::uint32_t c = a.nodes[x].first;
-            return children_overlap_box(a.nodes[c].bv, a.nodes[c + 1].bv, b.nodes[y].bv, rel);
-        } else {
-            const std::uint32_t c = b.nodes[y].first;
-            return box_overlap_children(a.nodes[x].bv, b.nodes[c].bv, b.nodes[c + 1].bv, rel);
-        }
+        return boxed_siblings_overlap<DescendA>(a, b, x, y, rel);
     }
 
     /// Lower bound on the distance of the two roots.
