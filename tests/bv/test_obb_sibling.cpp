@@ -1,13 +1,20 @@
 // The two-lane OBB test of sibling boxes (bv/detail/obb_sibling_test.hpp) against the scalar 15-axis test
 // (bv/obb.hpp's overlap) on random boxes: the same answer per child, SSE2 lanes and plain lanes bit for bit,
-// never "disjoint" where a point lies in both boxes, and the deeper child ranked first.
+// never "disjoint" where a point lies in both boxes, and the deeper child ranked first. The rounded form (Rss
+// trees: rectangles grown by their radii) never "disjoint" where a point lies in both volumes (point-in-Rss by its
+// own closed form), and no looser than the enclosing boxes.
 #include "mesh_factory.hpp"
 #include "test_common.hpp"
 
 #include "cdkit/bv/detail/obb_sibling_test.hpp"
+#include "cdkit/bv/enclosing_obb.hpp"
+#include "cdkit/bv/rounded_box.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <random>
 
 using namespace cdkit;
@@ -31,6 +38,34 @@ template <class S> Vec3<S> point_in(const Obb<S>& b, std::mt19937_64& rng) {
 
 template <class S> bool same(const detail::SiblingOverlap& x, const detail::SiblingOverlap& y) {
     return x.overlap[0] == y.overlap[0] && x.overlap[1] == y.overlap[1] && x.second_first == y.second_first;
+}
+
+template <class S> Rss<S> random_sibling_rss(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(-1, 1), h(0.0, 0.6), r(0.005, 0.3);
+    Rss<S> b;
+    b.axes = test::random_rotation<S>(rng);
+    b.center = Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng)));
+    b.half = typename Rss<S>::Vec2(S(h(rng)), S(h(rng)));
+    b.radius = S(r(rng));
+    return b;
+}
+
+/// A point of Rss b (world frame): a point of its rectangle plus one of its ball, drawn by rejection.
+template <class S> Vec3<double> point_in_rss(const Rss<S>& b, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    Vec3<double> ball;
+    do ball = Vec3<double>(u(rng), u(rng), u(rng));
+    while (ball.squaredNorm() > 1);
+    const Vec3<double> on_rect(double(b.half[0]) * u(rng), double(b.half[1]) * u(rng), 0.0);
+    return b.center.template cast<double>() + b.axes.template cast<double>() * on_rect + double(b.radius) * ball;
+}
+
+/// Whether world point p lies in Rss b: its distance to the rectangle, in the rectangle's frame, is at most the radius.
+template <class S> bool rss_holds(const Rss<S>& b, const Vec3<double>& p) {
+    const Vec3<double> q = b.axes.template cast<double>().transpose() * (p - b.center.template cast<double>());
+    const double dx = std::max(std::abs(q[0]) - double(b.half[0]), 0.0);
+    const double dy = std::max(std::abs(q[1]) - double(b.half[1]), 0.0);
+    return dx * dx + dy * dy + q[2] * q[2] <= double(b.radius) * double(b.radius) * (1 - 1e-9);
 }
 
 }  // namespace
@@ -111,4 +146,55 @@ TEMPLATE_TEST_CASE("OBB sibling test: the child that overlaps deeper comes first
         REQUIRE(detail::box_overlap_children(other, shallow, deep, rel_identity).second_first);
         REQUIRE_FALSE(detail::box_overlap_children(other, deep, shallow, rel_identity).second_first);
     }
+}
+
+TEMPLATE_TEST_CASE("Rounded sibling test: never disjoint where two RSS share a point, never looser than their boxes",
+                   "[bv]", float, double) {
+    using S = TestType;
+    using L = detail::Lanes2;
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> u(-1.2, 1.2);
+    const int n = test::scaled(20000, 2000);
+    int witnessed = 0, tighter = 0, disjoint = 0;
+    for (int i = 0; i < n; ++i) {
+        const Rss<S> c0 = random_sibling_rss<S>(rng), c1 = random_sibling_rss<S>(rng), other = random_sibling_rss<S>(rng);
+        const Transform<S> b_to_a(test::random_rotation<S>(rng), Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng))));
+        const auto rel = Obb<S>::relative(b_to_a);
+        const L round = L::of(detail::radius_sum_up(c0.radius, other.radius), detail::radius_sum_up(c1.radius, other.radius));
+        // Children of A's node against B's volume, and A's volume against children of B's node.
+        const detail::SiblingOverlap down_a = detail::children_overlap_box<S, L, true>(
+            core_box(c0), core_box(c1), core_box(other), rel, round);
+        const detail::SiblingOverlap down_b = detail::box_overlap_children<S, L, true>(
+            core_box(other), core_box(c0), core_box(c1), rel, round);
+        const detail::SiblingOverlap boxes_a = detail::children_overlap_box(enclosing_obb(c0), enclosing_obb(c1),
+                                                                           enclosing_obb(other), rel);
+        const Rss<S>* child[2] = {&c0, &c1};
+        const Transform<double> to_a = b_to_a.template cast<double>(), to_b = to_a.inverse();
+        for (int k = 0; k < 2; ++k) {
+            INFO("pair " << i << ", child " << k);
+            // Overlap witnessed by a point in both: a point of `in_a` (A's frame) in `in_b` (B's frame), or one of
+            // in_b in in_a.
+            const auto share = [&](const Rss<S>& in_a, const Rss<S>& in_b) {
+                for (int t = 0; t < 24; ++t) {
+                    const Vec3<double> p = point_in_rss(in_a, rng), q = point_in_rss(in_b, rng);
+                    if (rss_holds(in_b, to_b.R * p + to_b.t) || rss_holds(in_a, to_a.R * q + to_a.t)) return true;
+                }
+                return false;
+            };
+            if (share(*child[k], other)) {  // A's children against B's volume
+                ++witnessed;
+                REQUIRE(down_a.overlap[k]);
+            }
+            if (share(other, *child[k])) REQUIRE(down_b.overlap[k]);  // A's volume against B's children
+            // The boxes contain the volumes: where the rounded test keeps a child, the boxes keep it too.
+            if (down_a.overlap[k]) REQUIRE(boxes_a.overlap[k]);
+            tighter += boxes_a.overlap[k] && !down_a.overlap[k];
+            disjoint += !down_a.overlap[k];
+        }
+    }
+    CHECK(witnessed > n / 20);
+    CHECK(disjoint > n / 20);
+    CHECK(tighter > 0);
+    std::printf("rounded sibling test: %d shared points, %d disjoint, %d culled that the boxes keep\n", witnessed,
+                disjoint, tighter);
 }

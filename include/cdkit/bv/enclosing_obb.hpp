@@ -1,8 +1,8 @@
 #pragma once
 /// \file The oriented box around each bounding volume (`enclosing_obb`): the common form in which volumes of
-/// different kinds meet (mixed trees, bvh/mixed_descent.hpp) and in which an Rss tree's collide() tests two
-/// children at once (bvh/bvh_descent.hpp). The box contains the volume, so a box test never drops a pair the
-/// volume's own test would keep.
+/// different kinds meet in distance() (mixed trees, bvh/mixed_descent.hpp). The box contains the volume, so a box
+/// test never drops a pair the volume's own test would keep. (collide() takes them as rounded boxes instead:
+/// bv/rounded_box.hpp.)
 
 #include "cdkit/bv/aabb.hpp"
 #include "cdkit/bv/kdop.hpp"

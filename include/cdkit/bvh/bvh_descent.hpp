@@ -2,12 +2,12 @@
 /// \file Bvh<BV> as a tree of the simultaneous descent (bvh/traverse.hpp): cursors are node indices, each node
 /// stores its volume, and a node pair's test is the BV's own overlap() or distance_lower_bound() under the
 /// relative transform, in the BV's scalar (float volumes over a double mesh test in float, see MeshModel); an Rss
-/// tree's collide() tests the children below its roots as their enclosing boxes (siblings_overlap).
+/// tree's collide() tests the children below its roots as rounded boxes in the two-lane test (siblings_overlap).
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bv/detail/distance_rss_pair.hpp"
 #include "cdkit/bv/detail/obb_sibling_test.hpp"
-#include "cdkit/bv/enclosing_obb.hpp"
+#include "cdkit/bv/rounded_box.hpp"
 #include "cdkit/bvh/bvh.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
 #include "cdkit/core/inlining.hpp"
@@ -76,21 +76,34 @@ template <class BV> struct BvhDescentTree {
 };
 
 /// Both children of the node the descent splits (x's in tree `ta` when DescendA, else y's in `tb`) against the
-/// other node, as their enclosing boxes in one two-lane test (bv/detail/obb_sibling_test.hpp), with the order to
-/// enter them. `rel` takes B's frame to A's.
+/// other node, every volume as its rounded box (bv/rounded_box.hpp), in one two-lane test (bv/detail/
+/// obb_sibling_test.hpp), with the order to enter them. `rel` takes B's frame to A's. Boxes test as they are;
+/// where a volume has a ball (Rss, sphere), the rounded test adds the radii once per axis, which is tighter than
+/// the enclosing boxes (they pay the radius along every box axis at once) for one more addition per axis.
 template <bool DescendA, class BVA, class BVB>
-[[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap boxed_siblings_overlap(const BvhDescentTree<BVA>& ta,
-                                                                       const BvhDescentTree<BVB>& tb, std::uint32_t x,
-                                                                       std::uint32_t y,
-                                                                       const typename Obb<typename BVA::Scalar>::Relative& rel) noexcept {
+[[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap rounded_siblings_overlap(const BvhDescentTree<BVA>& ta,
+                                                                         const BvhDescentTree<BVB>& tb, std::uint32_t x,
+                                                                         std::uint32_t y,
+                                                                         const typename Obb<typename BVA::Scalar>::Relative& rel) noexcept {
+    using S = typename BVA::Scalar;
+    constexpr bool rounded = has_core_radius<BVA> || has_core_radius<BVB>;
+    const auto radii = [](const auto& c0, const auto& c1, const auto& o) CDKIT_LAMBDA_INLINE {
+        return Lanes2::of(radius_sum_up(core_radius(c0), core_radius(o)), radius_sum_up(core_radius(c1), core_radius(o)));
+    };
     if constexpr (DescendA) {
         const std::uint32_t c = ta.nodes[x].first;
-        return children_overlap_box(enclosing_obb(ta.nodes[c].bv), enclosing_obb(ta.nodes[c + 1].bv),
-                                    enclosing_obb(tb.nodes[y].bv), rel);
+        const BVA &c0 = ta.nodes[c].bv, &c1 = ta.nodes[c + 1].bv;
+        const BVB& o = tb.nodes[y].bv;
+        if constexpr (rounded)
+            return children_overlap_box<S, Lanes2, true>(core_box(c0), core_box(c1), core_box(o), rel, radii(c0, c1, o));
+        else return children_overlap_box(core_box(c0), core_box(c1), core_box(o), rel);
     } else {
         const std::uint32_t c = tb.nodes[y].first;
-        return box_overlap_children(enclosing_obb(ta.nodes[x].bv), enclosing_obb(tb.nodes[c].bv),
-                                    enclosing_obb(tb.nodes[c + 1].bv), rel);
+        const BVA& o = ta.nodes[x].bv;
+        const BVB &c0 = tb.nodes[c].bv, &c1 = tb.nodes[c + 1].bv;
+        if constexpr (rounded)
+            return box_overlap_children<S, Lanes2, true>(core_box(o), core_box(c0), core_box(c1), rel, radii(c0, c1, o));
+        else return box_overlap_children(core_box(o), core_box(c0), core_box(c1), rel);
     }
 }
 
@@ -132,14 +145,14 @@ template <class BV> struct BvhDescentPair {
     /// Obb trees: both children of the node the descent splits (x's when DescendA, else y's) against the
     /// other node, in one two-lane test (bv/detail/obb_sibling_test.hpp), with the order to enter them.
     /// Forced inline: in a large translation unit (the Python module's) GCC kept it out of line, one call per
-    /// split. Rss trees take the same test on their nodes' enclosing boxes: the Rss's own overlap is a
-    /// distance bound (rectangles, then spheres), several times the box test's cost, and the looser boxes cost
-    /// fewer node tests than they add (the children's ranking finds a first contact sooner; on the bunny at P1
-    /// d = 0.2: 6,032 → 3,568 tests, 11.9 → 4.0 µs per first-contact query).
+    /// split. Rss trees take the same test on their volumes as rounded boxes (rounded_siblings_overlap): the Rss's own
+    /// overlap is a distance bound (rectangles, then spheres), several times the box test's cost, and the
+    /// children's ranking finds a first contact sooner (on the bunny at P1 d = 0.2: 6,032 → 3,134 node tests,
+    /// 11.9 → 2.2 µs per first-contact query; results/rss_collide_ab.csv for the benchmark).
     template <bool DescendA>
         requires std::same_as<BV, Obb<B>> || std::same_as<BV, Rss<B>>
     [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap siblings_overlap(std::uint32_t x, std::uint32_t y) const noexcept {
-        return boxed_siblings_overlap<DescendA>(a, b, x, y, rel);
+        return rounded_siblings_overlap<DescendA>(a, b, x, y, rel);
     }
 
     /// Lower bound on the distance of the two roots.

@@ -2,10 +2,12 @@
 /// \file Mixed trees: two mesh models of different bounding volumes (a robot link's MeshModel<Obb> against an
 /// environment's MeshModel<Rss>, say) descend together. Every node is seen as the oriented box that encloses its
 /// volume (`enclosing_obb`), and a node pair is tested as two boxes: the 15-axis test of Gottschalk, Lin, Manocha
-/// ("OBBTree", SIGGRAPH 1996) for collide(), the box gap for distance(). The boxes contain the volumes, so no pair
-/// the volumes' own test would keep is dropped, and the triangles decide as in every descent: the answers are
-/// those of the brute force (tests/query/test_mixed_trees.cpp). What it costs: the box of a sphere or an Rss is
-/// looser than the volume, and an Aabb node pays the rotated-box test; two trees of one BV keep their own test.
+/// ("OBBTree", SIGGRAPH 1996) for collide()'s roots, the box gap for distance(); below the roots collide() tests a
+/// split node's children in the two-lane test, every volume as its rounded box (bv/rounded_box.hpp: exact for
+/// Rss and spheres). The boxes contain the volumes, so no pair the volumes' own test would keep is dropped, and
+/// the triangles decide as in every descent: the answers are those of the brute force
+/// (tests/query/test_mixed_trees.cpp). What it costs: the box of a sphere or an Rss is looser than the volume for
+/// distance(), and an Aabb node pays the rotated-box test; two trees of one BV keep their own test.
 
 #include "cdkit/bv/bv_distance.hpp"
 #include "cdkit/bv/enclosing_obb.hpp"
@@ -45,10 +47,10 @@ template <class BVA, class BVB> struct MixedDescentPair {
         return test(x, y);
     }
     [[nodiscard]] bool leaves_overlap(std::uint32_t, std::uint32_t) const noexcept { return true; }
-    /// As BvhDescentPair::siblings_overlap for Obb trees: the split node's two children against the other node in
-    /// one two-lane test (bv/detail/obb_sibling_test.hpp), on their enclosing boxes.
+    /// As BvhDescentPair::siblings_overlap: the split node's two children against the other node in one two-lane
+    /// test (bv/detail/obb_sibling_test.hpp), every volume as its rounded box (bv/rounded_box.hpp).
     template <bool DescendA> [[nodiscard]] SiblingOverlap siblings_overlap(std::uint32_t x, std::uint32_t y) const noexcept {
-        return boxed_siblings_overlap<DescendA>(a, b, x, y, rel);
+        return rounded_siblings_overlap<DescendA>(a, b, x, y, rel);
     }
 
     [[nodiscard]] B root_bound(std::uint32_t x, std::uint32_t y) const noexcept {

@@ -101,11 +101,20 @@ using Lanes2 = ScalarLanes2;
 /// The 15-axis test in two lanes: A's half extents `a` (per lane), B's `b`, B's axes in A's frame `Rb`
 /// (Rb[i][j] = component i of B's axis j) and B's centre in A's frame `T`. As boxes_disjoint, with |Rb| plus
 /// 64 ulps of S and A's extents widened by `slack`.
+/// `Rounded`: the volumes are the boxes grown by balls (Minkowski sums; an Rss is a flat box grown by its radius),
+/// `round` the two radii's sum per lane. A ball projects onto a face axis (unit length) as an interval of that
+/// radius and onto an unnormalised cross axis A_i × B_j as one of radius × the axis's length, which the test
+/// bounds from above; adding these to the boxes' radius sums keeps the test conservative, and tighter than the
+/// test of the enclosing boxes, which pay the radius along every box axis at once (the corners).
 /// Inlined into its two callers: out of line, its arrays went through memory (1.3× slower descents).
-template <class S, class L>
+template <class S, class L, bool Rounded = false>
 [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap sibling_sat(L a[3], const L b[3], const L Rb[3][3], const L T[3],
-                                                             double slack) noexcept {
+                                                             double slack, L round = L::none()) noexcept {
     const L eps = L::all(64 * double(std::numeric_limits<S>::epsilon()));
+    const auto grown = [&](L r) CDKIT_LAMBDA_INLINE {
+        if constexpr (Rounded) return r + round;
+        else return r;
+    };
     for (int i = 0; i < 3; ++i) a[i] = a[i] + L::all(slack);
     L A[3][3];
     for (int i = 0; i < 3; ++i)
@@ -113,11 +122,11 @@ template <class S, class L>
     L disjoint = L::none();  // lane k set: child k is separated on some axis tested so far
     SiblingOverlap out;
     for (int i = 0; i < 3; ++i)  // A's face axes
-        disjoint = disjoint | greater(T[i].abs(), a[i] + (A[i][0] * b[0] + A[i][1] * b[1] + A[i][2] * b[2]));
+        disjoint = disjoint | greater(T[i].abs(), grown(a[i] + (A[i][0] * b[0] + A[i][1] * b[1] + A[i][2] * b[2])));
     if (disjoint.bits() == 3) return out;
     for (int j = 0; j < 3; ++j)  // B's face axes
         disjoint = disjoint | greater((Rb[0][j] * T[0] + Rb[1][j] * T[1] + Rb[2][j] * T[2]).abs(),
-                                      b[j] + (A[0][j] * a[0] + A[1][j] * a[1] + A[2][j] * a[2]));
+                                      grown(b[j] + (A[0][j] * a[0] + A[1][j] * a[1] + A[2][j] * a[2])));
     if (disjoint.bits() == 3) return out;
     for (int i = 0; i < 3; ++i) {  // cross axes A_i × B_j
         const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
@@ -125,7 +134,13 @@ template <class S, class L>
             const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
             const L ra = a[i1] * A[i2][j] + a[i2] * A[i1][j];
             const L rb = b[j1] * A[i][j2] + b[j2] * A[i][j1];
-            disjoint = disjoint | greater((T[i2] * Rb[i1][j] - T[i1] * Rb[i2][j]).abs(), ra + rb);
+            L r = ra + rb;
+            // A ball of radius ρ projects onto the unnormalised axis A_i × B_j as an interval of radius ρ·length;
+            // the length, sin ∠(A_i, B_j), is at most 1, |Rb[i1][j]| + |Rb[i2][j]| (B_j across A_i) and
+            // |Rb[i][j1]| + |Rb[i][j2]| (A_i across B_j).
+            if constexpr (Rounded)
+                r = r + round * min(min(A[i1][j] + A[i2][j], A[i][j1] + A[i][j2]), L::all(1.0));
+            disjoint = disjoint | greater((T[i2] * Rb[i1][j] - T[i1] * Rb[i2][j]).abs(), r);
         }
         if (disjoint.bits() == 3) return out;
     }
@@ -135,21 +150,29 @@ template <class S, class L>
     if (bits == 0) {  // both overlap: the smallest overlap over the face axes ranks them
         L depth = L::all(std::numeric_limits<double>::infinity());
         for (int i = 0; i < 3; ++i)
-            depth = min(depth, a[i] + (A[i][0] * b[0] + A[i][1] * b[1] + A[i][2] * b[2]) - T[i].abs());
+            depth = min(depth, grown(a[i] + (A[i][0] * b[0] + A[i][1] * b[1] + A[i][2] * b[2])) - T[i].abs());
         for (int j = 0; j < 3; ++j)
-            depth = min(depth, b[j] + (A[0][j] * a[0] + A[1][j] * a[1] + A[2][j] * a[2]) -
+            depth = min(depth, grown(b[j] + (A[0][j] * a[0] + A[1][j] * a[1] + A[2][j] * a[2])) -
                                    (Rb[0][j] * T[0] + Rb[1][j] * T[1] + Rb[2][j] * T[2]).abs());
         out.second_first = depth[1] > depth[0];
     }
     return out;
 }
 
+/// The sum of two balls' radii for the rounded test, rounded up (a sum rounded to nearest may fall short of the
+/// true one by half an ulp).
+[[nodiscard]] inline double radius_sum_up(double r, double s) noexcept {
+    return (r + s) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+
 /// Children c0, c1 of a node of A (in A's frame) against box b of B (in B's frame), `rel` taking B's frame
-/// to A's: b is carried into A's frame once, then each child's frame is a lane.
-template <class S, class L = Lanes2>
+/// to A's: b is carried into A's frame once, then each child's frame is a lane. `Rounded`: the boxes grown by
+/// balls whose radii sum to `round` per lane (sibling_sat).
+template <class S, class L = Lanes2, bool Rounded = false>
 [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap children_overlap_box(const Obb<S>& c0, const Obb<S>& c1,
                                                                       const Obb<S>& b,
-                                                                      const typename Obb<S>::Relative& rel) noexcept {
+                                                                      const typename Obb<S>::Relative& rel,
+                                                                      L round = L::none()) noexcept {
     const Mat3<S> M = rel.R * b.axes;              // b's axes in A's frame
     const Vec3<S> Tb = rel.R * b.center + rel.t;  // b's centre in A's frame
     L ax[3][3];  // ax[k][i]: component k of the children's axis i
@@ -165,15 +188,16 @@ template <class S, class L = Lanes2>
     }
     L a[3], hb[3];
     for (int k = 0; k < 3; ++k) a[k] = L::of(c0.half[k], c1.half[k]), hb[k] = L::all(b.half[k]);
-    return sibling_sat<S, L>(a, hb, Rb, T, rel.slack);
+    return sibling_sat<S, L, Rounded>(a, hb, Rb, T, rel.slack, round);
 }
 
 /// Box a of A (in A's frame) against children c0, c1 of a node of B (in B's frame): A's frame is composed
-/// with `rel` once, then each child is a lane.
-template <class S, class L = Lanes2>
+/// with `rel` once, then each child is a lane. `Rounded` as children_overlap_box.
+template <class S, class L = Lanes2, bool Rounded = false>
 [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap box_overlap_children(const Obb<S>& a, const Obb<S>& c0,
                                                                       const Obb<S>& c1,
-                                                                      const typename Obb<S>::Relative& rel) noexcept {
+                                                                      const typename Obb<S>::Relative& rel,
+                                                                      L round = L::none()) noexcept {
     const Mat3<S> at = a.axes.transpose();
     const Mat3<S> Q = at * rel.R;                 // B's frame → a's box frame
     const Vec3<S> Qt = at * (rel.t - a.center);
@@ -190,7 +214,7 @@ template <class S, class L = Lanes2>
     }
     L ha[3], b[3];
     for (int k = 0; k < 3; ++k) ha[k] = L::all(a.half[k]), b[k] = L::of(c0.half[k], c1.half[k]);
-    return sibling_sat<S, L>(ha, b, Rb, T, rel.slack);
+    return sibling_sat<S, L, Rounded>(ha, b, Rb, T, rel.slack, round);
 }
 
 /// Children c0, c1 of a node against a probe box p given in the children's own frame (a convex shape's bound in a
