@@ -12,10 +12,12 @@
 #include "cdkit/bv/sphere.hpp"
 #include "cdkit/bvh/boxtree.hpp"
 #include "cdkit/bvh/mesh_model.hpp"
+#include "cdkit/bvh/mixed_descent.hpp"
 #include "cdkit/query.hpp"
 
 #include <algorithm>
 #include <cctype>
+#include <cstddef>
 #include <functional>
 #include <tuple>
 #include <type_traits>
@@ -42,8 +44,23 @@ template <class BV, class M = typename BV::Scalar> [[nodiscard]] std::string cdk
     return n;
 }
 
-/// A cdkit model timed through cdkit::collide (a MeshModel or a RestrictedBoxtree); S is its mesh's scalar.
-/// `build` constructs the model and fills the BuildInfo; it is timed here.
+/// Two models over one mesh with trees of different volumes: collide(a, b) on mixed trees (bvh/mixed_descent.hpp),
+/// A's tree for the first copy, B's for the second.
+template <class BVA, class BVB> struct MixedModels {
+    cdkit::MeshModel<BVA> a;
+    cdkit::MeshModel<BVB> b;
+    [[nodiscard]] const auto& mesh() const noexcept { return a.mesh(); }
+    [[nodiscard]] std::size_t memory_bytes() const noexcept { return a.memory_bytes() + b.memory_bytes(); }
+    [[nodiscard]] std::size_t node_count() const noexcept { return a.bvh().nodes().size() + b.bvh().nodes().size(); }
+};
+/// The model of the first and of the second copy: one model for both, or a mixed pair's two.
+template <class Model> [[nodiscard]] const Model& first_copy(const Model& m) noexcept { return m; }
+template <class Model> [[nodiscard]] const Model& second_copy(const Model& m) noexcept { return m; }
+template <class A, class B> [[nodiscard]] const auto& first_copy(const MixedModels<A, B>& m) noexcept { return m.a; }
+template <class A, class B> [[nodiscard]] const auto& second_copy(const MixedModels<A, B>& m) noexcept { return m.b; }
+
+/// A cdkit model timed through cdkit::collide (a MeshModel, a RestrictedBoxtree or MixedModels); S is its mesh's
+/// scalar. `build` constructs the model and fills the BuildInfo; it is timed here.
 template <class Model, class S> class CollideMethod final : public Method {
 public:
     template <class Build>
@@ -55,7 +72,8 @@ public:
     const BuildInfo& build_info() const noexcept override { return info_; }
 
     Outcome probe(const Pose& pose, Mode mode) override {
-        const auto r = cdkit::collide(model_, cdkit::Transform<S>::identity(), model_, cast(pose), request(mode));
+        const auto r = cdkit::collide(first_copy(model_), cdkit::Transform<S>::identity(), second_copy(model_), cast(pose),
+                                      request(mode));
         return {r.colliding, r.contacts.size(), r.stats.bv_tests, r.stats.primitive_tests};
     }
 
@@ -65,7 +83,7 @@ public:
         const cdkit::Transform<S> pb = cast(pose);
         const cdkit::CollisionRequest req = request(mode);
         return time_batch(reps, [&] {
-            const auto r = cdkit::collide(model_, pa, model_, pb, req);
+            const auto r = cdkit::collide(first_copy(model_), pa, second_copy(model_), pb, req);
             return std::pair<bool, std::size_t>(r.colliding, r.contacts.size());
         });
     }
@@ -85,7 +103,8 @@ private:
         info_.tree_bytes = m.memory_bytes();
         info_.tree_bytes_note = bytes_note;
         info_.mesh_bytes = m.mesh().memory_bytes();
-        if constexpr (requires { m.bvh(); }) info_.nodes = m.bvh().nodes().size();
+        if constexpr (requires { m.node_count(); }) info_.nodes = m.node_count();
+        else if constexpr (requires { m.bvh(); }) info_.nodes = m.bvh().nodes().size();
         else info_.nodes = m.nodes().size();
         info_.single_precision = std::is_same_v<S, float>;
         return m;
@@ -116,12 +135,28 @@ template <class S>
         boxtree_method_name<S>(), [&] { return cdkit::RestrictedBoxtree<S>(mesh); }, "RestrictedBoxtree::memory_bytes()");
 }
 
-/// Names of all cdkit methods, in CdkitBvs order, then the float-over-double models, then the boxtrees.
+/// Mixed trees: an Obb tree against an Rss tree (a moving part's tree for collide() against an environment's built
+/// for distance()); FCL has no mixed pair to compare.
+inline const std::string mixed_method_name = "cdkit_obb_x_rss";
+[[nodiscard]] inline std::unique_ptr<Method> make_mixed_method(std::shared_ptr<const cdkit::TriangleMesh<double>> mesh,
+                                                               const cdkit::BuildOptions& options) {
+    using Pair = MixedModels<cdkit::Obb<double>, cdkit::Rss<double>>;
+    return std::make_unique<CollideMethod<Pair, double>>(
+        mixed_method_name,
+        [&] {
+            return Pair{cdkit::MeshModel<cdkit::Obb<double>>(mesh, options),
+                        cdkit::MeshModel<cdkit::Rss<double>>(mesh, options)};
+        },
+        "MeshModel::memory_bytes() of both trees");
+}
+
+/// Names of all cdkit methods, in CdkitBvs order, then the float-over-double models, the mixed pair, the boxtrees.
 [[nodiscard]] inline std::vector<std::string> cdkit_method_names() {
     auto names = std::apply([](auto... bv) { return std::vector<std::string>{cdkit_method_name<decltype(bv)>()...}; },
                             CdkitBvs{});
     std::apply([&](auto... bv) { (names.push_back(cdkit_method_name<decltype(bv), double>()), ...); },
                CdkitFloatOverDoubleBvs{});
+    names.push_back(mixed_method_name);
     names.push_back(boxtree_method_name<double>());
     names.push_back(boxtree_method_name<float>());
     return names;
@@ -145,6 +180,7 @@ template <class S>
         if (wanted(cdkit_method_name<BV, double>())) out.push_back(make_mesh_model_method<BV, double>(md, options));
     };
     std::apply([&](auto... bv) { (add_over_double(static_cast<decltype(bv)*>(nullptr)), ...); }, CdkitFloatOverDoubleBvs{});
+    if (wanted(mixed_method_name)) out.push_back(make_mixed_method(md, options));
     if (wanted(boxtree_method_name<double>())) out.push_back(make_boxtree_method(md));
     if (wanted(boxtree_method_name<float>())) out.push_back(make_boxtree_method(mf));
     return out;

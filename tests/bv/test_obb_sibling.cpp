@@ -157,10 +157,12 @@ TEMPLATE_TEST_CASE("Rounded sibling test: never disjoint where two RSS share a p
     const int n = test::scaled(20000, 2000);
     int witnessed = 0, tighter = 0, disjoint = 0;
     for (int i = 0; i < n; ++i) {
-        const Rss<S> c0 = random_sibling_rss<S>(rng), c1 = random_sibling_rss<S>(rng), other = random_sibling_rss<S>(rng);
+        const Rss<S> c0 = random_sibling_rss<S>(rng), c1 = random_sibling_rss<S>(rng);
+        const Rss<S> other = random_sibling_rss<S>(rng);
         const Transform<S> b_to_a(test::random_rotation<S>(rng), Vec3<S>(S(u(rng)), S(u(rng)), S(u(rng))));
         const auto rel = Obb<S>::relative(b_to_a);
-        const L round = L::of(detail::radius_sum_up(c0.radius, other.radius), detail::radius_sum_up(c1.radius, other.radius));
+        const L round =
+            L::of(detail::radius_sum_up(c0.radius, other.radius), detail::radius_sum_up(c1.radius, other.radius));
         // Children of A's node against B's volume, and A's volume against children of B's node.
         const detail::SiblingOverlap down_a = detail::children_overlap_box<S, L, true>(
             core_box(c0), core_box(c1), core_box(other), rel, round);

@@ -235,8 +235,8 @@ template <class S> struct Rss {
         return center + axes.col(0) * ((c & 1) ? half[0] : -half[0]) + axes.col(1) * ((c & 2) ? half[1] : -half[1]);
     }
 
-    /// Per-query data: the rigid motion and the slack for its rounding (the OBB's, so that an Rss tree can test
-    /// its nodes' enclosing boxes under it: bvh/bvh_descent.hpp).
+    /// Per-query data: the rigid motion and the slack for its rounding (the OBB's, so that an Rss tree's collide()
+    /// can test its nodes as rounded boxes under it: bvh/bvh_descent.hpp).
     using Relative = typename Obb<S>::Relative;
     [[nodiscard]] static Relative relative(const Transform<S>& b_to_a) noexcept {
         return {b_to_a.R, b_to_a.t, detail::translation_slack(b_to_a.t)};

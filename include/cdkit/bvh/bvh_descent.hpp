@@ -80,29 +80,31 @@ template <class BV> struct BvhDescentTree {
 /// obb_sibling_test.hpp), with the order to enter them. `rel` takes B's frame to A's. Boxes test as they are;
 /// where a volume has a ball (Rss, sphere), the rounded test adds the radii once per axis, which is tighter than
 /// the enclosing boxes (they pay the radius along every box axis at once) for one more addition per axis.
-template <bool DescendA, class BVA, class BVB>
+template <bool DescendA, class BVA, class BVB, class S = typename BVA::Scalar>
 [[nodiscard]] CDKIT_ALWAYS_INLINE SiblingOverlap rounded_siblings_overlap(const BvhDescentTree<BVA>& ta,
                                                                          const BvhDescentTree<BVB>& tb, std::uint32_t x,
                                                                          std::uint32_t y,
-                                                                         const typename Obb<typename BVA::Scalar>::Relative& rel) noexcept {
-    using S = typename BVA::Scalar;
+                                                                         const typename Obb<S>::Relative& rel) noexcept {
     constexpr bool rounded = has_core_radius<BVA> || has_core_radius<BVB>;
     const auto radii = [](const auto& c0, const auto& c1, const auto& o) CDKIT_LAMBDA_INLINE {
-        return Lanes2::of(radius_sum_up(core_radius(c0), core_radius(o)), radius_sum_up(core_radius(c1), core_radius(o)));
+        return Lanes2::of(radius_sum_up(core_radius(c0), core_radius(o)),
+                          radius_sum_up(core_radius(c1), core_radius(o)));
     };
     if constexpr (DescendA) {
         const std::uint32_t c = ta.nodes[x].first;
         const BVA &c0 = ta.nodes[c].bv, &c1 = ta.nodes[c + 1].bv;
         const BVB& o = tb.nodes[y].bv;
         if constexpr (rounded)
-            return children_overlap_box<S, Lanes2, true>(core_box(c0), core_box(c1), core_box(o), rel, radii(c0, c1, o));
+            return children_overlap_box<S, Lanes2, true>(core_box(c0), core_box(c1), core_box(o), rel,
+                                                         radii(c0, c1, o));
         else return children_overlap_box(core_box(c0), core_box(c1), core_box(o), rel);
     } else {
         const std::uint32_t c = tb.nodes[y].first;
         const BVA& o = ta.nodes[x].bv;
         const BVB &c0 = tb.nodes[c].bv, &c1 = tb.nodes[c + 1].bv;
         if constexpr (rounded)
-            return box_overlap_children<S, Lanes2, true>(core_box(o), core_box(c0), core_box(c1), rel, radii(c0, c1, o));
+            return box_overlap_children<S, Lanes2, true>(core_box(o), core_box(c0), core_box(c1), rel,
+                                                         radii(c0, c1, o));
         else return box_overlap_children(core_box(o), core_box(c0), core_box(c1), rel);
     }
 }
