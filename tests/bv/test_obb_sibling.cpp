@@ -16,6 +16,8 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <type_traits>
+#include <utility>
 
 using namespace cdkit;
 
@@ -67,6 +69,10 @@ template <class S> bool rss_holds(const Rss<S>& b, const Vec3<double>& p) {
     const double dy = std::max(std::abs(q[1]) - double(b.half[1]), 0.0);
     return dx * dx + dy * dy + q[2] * q[2] <= double(b.radius) * double(b.radius) * (1 - 1e-9);
 }
+
+// A box is its own core (no copy); any other volume with an enclosing box gets that box as its core.
+static_assert(std::is_same_v<decltype(core_box(std::declval<const Obb<double>&>())), const Obb<double>&>);
+static_assert(std::is_same_v<decltype(core_box(std::declval<const Kdop<double, 18>&>())), Obb<double>>);
 
 }  // namespace
 

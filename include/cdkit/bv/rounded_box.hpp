@@ -5,22 +5,20 @@
 /// the form in which the two-lane sibling test (bv/detail/obb_sibling_test.hpp) takes two children and another node
 /// of any two volumes: exactly the volume for boxes, Rss and spheres, the enclosing box for k-DOPs.
 
-#include "cdkit/bv/aabb.hpp"
 #include "cdkit/bv/enclosing_obb.hpp"
-#include "cdkit/bv/kdop.hpp"
 #include "cdkit/bv/obb.hpp"
 #include "cdkit/bv/rss.hpp"
 #include "cdkit/bv/sphere.hpp"
 
 namespace cdkit {
 
-/// The core box of a volume (see the file comment): a box is returned as it is, no copy.
+/// The core box of a volume (see the file comment): by default its enclosing box (Aabb, k-DOP, any volume with an
+/// enclosing_obb()); a box is returned as it is, no copy.
+template <class BV>
+    requires HasEnclosingObb<BV>
+[[nodiscard]] inline Obb<typename BV::Scalar> core_box(const BV& b) noexcept { return enclosing_obb(b); }
 template <class S>
 [[nodiscard]] inline const Obb<S>& core_box(const Obb<S>& b) noexcept { return b; }
-template <class S>
-[[nodiscard]] inline Obb<S> core_box(const Aabb<S>& b) noexcept { return enclosing_obb(b); }
-template <class S, int K>
-[[nodiscard]] inline Obb<S> core_box(const Kdop<S, K>& b) noexcept { return enclosing_obb(b); }
 /// An Rss's rectangle as a flat box (half extent 0 along its normal).
 template <class S>
 [[nodiscard]] inline Obb<S> core_box(const Rss<S>& b) noexcept {
